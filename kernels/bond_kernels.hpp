@@ -1,0 +1,29 @@
+// Bond kernels: per-bond beam loads (compute), then the per-particle CSR gather (scatter-free), then
+// optional strain-energy tally. Race-free by construction (STYLE.md rule 5): the compute pass writes only
+// its own bond's loads; the gather pass writes only its own particle's force and torque, summing the
+// incident bonds in the fixed CSR order, so results are identical for any thread count.
+#pragma once
+
+#include "kernels/views.hpp"
+
+namespace vitrum {
+
+/// Bond-viscous damping (optional, reported in the log): a dashpot on the axial relative velocity with
+/// coefficient ratio·2√(m_eff k_axial), and one on the relative angular velocity with ratio·2√(J_eff·4EI/l₀),
+/// m_eff = m_i m_j/(m_i+m_j). Both vanish under rigid-body motion.
+struct BondViscousDamping {
+    double ratio = 0.0; ///< fraction of the bond's critical damping
+};
+
+/// Computes the beam loads of every unbroken bond into bonds.force / torque_i / torque_j.
+void computeBeamLoads(const BondView& bonds, const ParticleView& particles);
+/// Same, plus bond-viscous damping.
+void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const BondViscousDamping& damping);
+
+/// Sets each particle's force and torque to the sum of its bonds' loads (CSR order). Overwrites.
+void gatherBondLoads(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles);
+
+/// Total strain energy stored in the unbroken beams, nJ (deterministic reduction).
+double beamStrainEnergy(const BondView& bonds, const ParticleView& particles);
+
+} // namespace vitrum

@@ -1,0 +1,75 @@
+#include "kernels/integrate.hpp"
+
+#include <cmath>
+
+#include "kernels/parallel.hpp"
+
+namespace vitrum {
+
+void halfKick(const ParticleView& p, double dt) {
+    const double h = 0.5 * dt;
+    parallelFor("integrate.kick", p.n, [&](std::size_t i) {
+        if (p.flags[i] & kKinematic) {
+            return;
+        }
+        const double a = h / p.mass[i];
+        const double b = h / p.inertia[i];
+        for (int c = 0; c < 3; ++c) {
+            p.velocity[3 * i + c] += a * p.force[3 * i + c];
+            p.angular_velocity[3 * i + c] += b * p.torque[3 * i + c];
+        }
+    });
+}
+
+void drift(const ParticleView& p, double dt) {
+    parallelFor("integrate.drift", p.n, [&](std::size_t i) {
+        for (int c = 0; c < 3; ++c) {
+            p.position[3 * i + c] += dt * p.velocity[3 * i + c];
+        }
+        const Vec3 w = load3(p.angular_velocity, i);
+        const double speed = w.norm();
+        if (speed > 0.0) {
+            const double half = 0.5 * speed * dt;
+            const Quat step(Eigen::AngleAxisd(2.0 * half, w / speed));
+            Quat q = step * loadQuat(p.orientation, i);
+            q.normalize();
+            storeQuat(p.orientation, i, q);
+        }
+    });
+}
+
+void cundallLocalDamping(const ParticleView& p, double alpha) {
+    parallelFor("damping.cundall", p.n, [&](std::size_t i) {
+        for (int c = 0; c < 3; ++c) {
+            const std::size_t k = 3 * i + c;
+            const double v = p.velocity[k];
+            const double w = p.angular_velocity[k];
+            p.force[k] -= alpha * std::abs(p.force[k]) * ((v > 0.0) - (v < 0.0));
+            p.torque[k] -= alpha * std::abs(p.torque[k]) * ((w > 0.0) - (w < 0.0));
+        }
+    });
+}
+
+KineticEnergy kineticEnergy(const ParticleView& p) {
+    return parallelReduce("integrate.kinetic_energy", p.n, KineticEnergy{}, [&](std::size_t i, KineticEnergy& acc) {
+        const Vec3 v = load3(p.velocity, i);
+        const Vec3 w = load3(p.angular_velocity, i);
+        const double v2 = v.squaredNorm();
+        acc.translational += 0.5 * p.mass[i] * v2;
+        acc.rotational += 0.5 * p.inertia[i] * w.squaredNorm();
+        const double s = std::sqrt(v2);
+        acc.max_speed = acc.max_speed > s ? acc.max_speed : s;
+        acc.finite = acc.finite && std::isfinite(v2) && std::isfinite(w.squaredNorm()) &&
+                     std::isfinite(load3(p.position, i).squaredNorm());
+    });
+}
+
+Momentum momentum(const ParticleView& p) {
+    return parallelReduce("integrate.momentum", p.n, Momentum{}, [&](std::size_t i, Momentum& acc) {
+        const Vec3 mv = p.mass[i] * load3(p.velocity, i);
+        acc.linear += mv;
+        acc.angular += load3(p.position, i).cross(mv) + p.inertia[i] * load3(p.angular_velocity, i);
+    });
+}
+
+} // namespace vitrum

@@ -1,0 +1,49 @@
+// Explicit time integration: kick–drift–kick velocity Verlet for translation and, for spheres (isotropic
+// inertia J = 2/5 m R², so no gyroscopic term), the same scheme for the angular velocity with the
+// orientation advanced by the exact exponential map q ← exp(Δt ω/2) ⊗ q (reference note dem-beam-model.md
+// §3.1). Particles flagged kKinematic are not kicked: a boundary condition owns their velocity.
+#pragma once
+
+#include "kernels/views.hpp"
+
+namespace vitrum {
+
+/// v += Δt/2 · F/m and ω += Δt/2 · T/J for every particle that is not kinematic.
+void halfKick(const ParticleView& p, double dt);
+
+/// x += Δt v and q ← normalize(exp(Δt ω/2) ⊗ q) for every particle.
+void drift(const ParticleView& p, double dt);
+
+/// Cundall local non-viscous damping (Cundall 1987): each force and torque component is reduced by
+/// α |F_k| sign(v_k) (resp. ω_k), opposing the current motion; α ∈ [0, 1).
+void cundallLocalDamping(const ParticleView& p, double alpha);
+
+/// Energies of the particles (nJ), summed deterministically.
+struct KineticEnergy {
+    double translational = 0.0;
+    double rotational = 0.0;
+    double max_speed = 0.0; ///< km/s, the largest |v| (for instability detection)
+    bool finite = true;     ///< false when any velocity or position is NaN/Inf
+    KineticEnergy& operator+=(const KineticEnergy& o) {
+        translational += o.translational;
+        rotational += o.rotational;
+        max_speed = max_speed > o.max_speed ? max_speed : o.max_speed;
+        finite = finite && o.finite;
+        return *this;
+    }
+};
+KineticEnergy kineticEnergy(const ParticleView& p);
+
+/// Total linear momentum Σ m v and angular momentum about the origin Σ (x × m v + J ω).
+struct Momentum {
+    Vec3 linear = Vec3::Zero();
+    Vec3 angular = Vec3::Zero();
+    Momentum& operator+=(const Momentum& o) {
+        linear += o.linear;
+        angular += o.angular;
+        return *this;
+    }
+};
+Momentum momentum(const ParticleView& p);
+
+} // namespace vitrum

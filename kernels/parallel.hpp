@@ -1,0 +1,97 @@
+// The one home of OpenMP in vitrum (STYLE.md rule 6): parallelFor / parallelReduce wrap the pragmas and charge
+// their wall time to a per-label timer that the run log prints. Physics files contain no pragma.
+//
+// Determinism: parallelFor bodies must write disjoint data (each index its own outputs). parallelReduce splits
+// [0, n) into fixed chunks of kReduceChunk indices, whatever the thread count; each chunk is summed serially
+// and the chunk partials are added in chunk order. The result is therefore bit-identical for any thread count.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace vitrum {
+
+/// Accumulated wall time and call count of one label.
+struct TimerEntry {
+    std::string label;
+    double seconds = 0.0;
+    long long calls = 0;
+};
+
+/// Process-wide table of per-label kernel timers. Written only by parallelFor/parallelReduce and by
+/// ScopedTimer (from the thread that runs the step), read by the run log.
+class KernelTimers {
+public:
+    static KernelTimers& instance();
+    void add(const char* label, double seconds);
+    std::vector<TimerEntry> entries() const; ///< merged by label text, in first-use order
+    void reset();
+
+private:
+    std::vector<TimerEntry> table_;
+    std::vector<const char*> keys_;
+};
+
+/// Times a scope under a label (used for phases that are not a single parallel loop).
+class ScopedTimer {
+public:
+    explicit ScopedTimer(const char* label) : label_(label), start_(std::chrono::steady_clock::now()) {}
+    ~ScopedTimer() {
+        const auto end = std::chrono::steady_clock::now();
+        KernelTimers::instance().add(label_, std::chrono::duration<double>(end - start_).count());
+    }
+    ScopedTimer(const ScopedTimer&) = delete;
+    ScopedTimer& operator=(const ScopedTimer&) = delete;
+
+private:
+    const char* label_;
+    std::chrono::steady_clock::time_point start_;
+};
+
+/// Number of threads parallel loops use (omp_get_max_threads()).
+int threadCount();
+/// Sets the thread count for subsequent loops (omp_set_num_threads).
+void setThreadCount(int n);
+
+/// Reduction chunk: fixed, so that partial sums do not depend on the thread count.
+inline constexpr std::size_t kReduceChunk = 2048;
+
+/// Runs body(i) for i in [0, n) on all threads (static schedule).
+template <class Body>
+void parallelFor(const char* label, std::size_t n, Body&& body) {
+    ScopedTimer timer(label);
+    const long long count = static_cast<long long>(n);
+#pragma omp parallel for schedule(static)
+    for (long long i = 0; i < count; ++i) {
+        body(static_cast<std::size_t>(i));
+    }
+}
+
+/// Deterministic sum over i in [0, n) of contribution(i, acc) where contribution adds into acc (a value type
+/// with operator+= and a zero given by `zero`). See the determinism note at the top of this file.
+template <class T, class Contribution>
+T parallelReduce(const char* label, std::size_t n, const T& zero, Contribution&& contribution) {
+    ScopedTimer timer(label);
+    const std::size_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
+    std::vector<T> partial(chunks, zero);
+    const long long count = static_cast<long long>(chunks);
+#pragma omp parallel for schedule(static)
+    for (long long c = 0; c < count; ++c) {
+        T acc = zero;
+        const std::size_t begin = static_cast<std::size_t>(c) * kReduceChunk;
+        const std::size_t end = begin + kReduceChunk < n ? begin + kReduceChunk : n;
+        for (std::size_t i = begin; i < end; ++i) {
+            contribution(i, acc);
+        }
+        partial[static_cast<std::size_t>(c)] = acc;
+    }
+    T total = zero;
+    for (const T& p : partial) {
+        total += p;
+    }
+    return total;
+}
+
+} // namespace vitrum

@@ -1,0 +1,112 @@
+// The typed, validated scene (STYLE.md rule 7). io/scene_reader fills it from TOML; every quantity here is
+// already converted to vitrum's internal units (µm, GPa, ns, mN, 10³ kg/m³; see kernels/views.hpp). The
+// resolved scene is written back next to the results (io/scene_reader: writeResolvedScene).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "kernels/views.hpp"
+
+namespace vitrum {
+
+/// Units the scene file's numbers are written in (converted on reading). Density is always kg/m³, angles
+/// degrees; velocity is length/time.
+struct UnitSystem {
+    std::string length = "um"; ///< m | mm | um | nm
+    std::string stress = "GPa"; ///< Pa | kPa | MPa | GPa
+    std::string force = "N";   ///< N | mN | uN | nN
+    std::string time = "ns";   ///< s | ms | us | ns | ps
+};
+
+/// Regular lattice samples for now (the dense random packer comes with the packing issue).
+struct SampleParams {
+    std::string lattice = "fcc";   ///< sc | fcc
+    std::string shape = "box";     ///< box | cylinder | sphere | hemisphere
+    Vec3 size = Vec3(10, 10, 10);  ///< box edge lengths, µm (shape = box); the box spans [0, size]
+    double radius = 5.0;           ///< µm (cylinder, sphere, hemisphere)
+    double height = 10.0;          ///< µm (cylinder, axis z from 0 to height)
+    long particles = 1000;         ///< target particle count: the lattice spacing follows from the shape volume
+    double bond_tolerance = 0.05;  ///< bond pairs closer than (1 + tol)(R_i + R_j)
+};
+
+/// Micro-parameters of the cohesive beams (paper Table 1) and the particle density.
+struct MaterialParams {
+    double density = 2.2;          ///< 10³ kg/m³ (scene: kg/m³)
+    double beam_young = 414.0;     ///< E_μ, GPa
+    double beam_poisson = 0.3;     ///< ν_μ (G_μ = E_μ/(2(1+ν_μ)))
+    double radius_ratio = 0.57;    ///< r̃_μ: beam radius / mean radius of the two particles
+};
+
+/// A named particle set. `where` is a geometric selector, see solver/sets.hpp for the grammar.
+struct SetParams {
+    std::string name;
+    std::string where;
+};
+
+enum class BoundaryKind { Fixed, Velocity, Displacement };
+
+/// A kinematic boundary condition on a set: clamped (position and rotation), prescribed velocity, or a
+/// displacement ramped linearly over ramp_time then held. Rotations of a constrained set are clamped.
+struct BoundaryParams {
+    std::string set;
+    BoundaryKind kind = BoundaryKind::Fixed;
+    Vec3 value = Vec3::Zero(); ///< velocity (km/s) or displacement (µm)
+    double ramp_time = 0.0;    ///< ns, Displacement only; 0 = applied at once
+};
+
+enum class DampingKind { None, CundallLocal, BondViscous };
+
+/// Explicit damping (effect `damping`), always reported in the log and summary.
+struct DampingParams {
+    DampingKind kind = DampingKind::None;
+    double coefficient = 0.0; ///< Cundall α ∈ [0,1) or bond-viscous fraction of critical damping
+};
+
+struct TimeParams {
+    double safety_ratio = 0.1; ///< Δt = ratio × Δt_crit (kernels/timestep.hpp)
+    double duration = 1.0;     ///< ns of simulated time
+};
+
+/// Uniaxial measurement: apparent modulus σ/ε from the reaction on a loaded set, the sample's cross-section
+/// normal to `axis` and its length along it (box or cylinder samples).
+struct MeasureParams {
+    bool uniaxial = false;
+    std::string loaded_set;
+    int axis = 2; ///< 0 x, 1 y, 2 z
+};
+
+struct OutputParams {
+    long every = 100;                 ///< steps between series.csv rows
+    long maps = 10;                   ///< number of VTU snapshots over the run (plus the initial one); 0 = none
+    std::vector<std::string> fields = {"displacement", "velocity", "force", "coordination"};
+    std::vector<std::string> reactions; ///< sets whose total bond force is recorded
+};
+
+struct Scene {
+    std::string name = "unnamed";
+    std::uint64_t seed = 1;
+    UnitSystem units;
+    std::vector<std::string> effects = {"elasticity"}; ///< composed in this order (DESIGN.md §4)
+    SampleParams sample;
+    MaterialParams material;
+    std::vector<SetParams> sets;
+    std::vector<BoundaryParams> boundaries;
+    DampingParams damping;
+    TimeParams time;
+    MeasureParams measure;
+    OutputParams output;
+    std::string source_path; ///< the scene file it came from
+
+    bool hasEffect(const std::string& effect) const {
+        for (const std::string& e : effects) {
+            if (e == effect) {
+                return true;
+            }
+        }
+        return false;
+    }
+};
+
+} // namespace vitrum
