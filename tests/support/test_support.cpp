@@ -1,0 +1,38 @@
+// test support helpers
+#include "support/test_support.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+namespace vitrum::testing {
+
+std::filesystem::path freshTempDir(const std::string& tag) {
+    static std::atomic<int> counter{0};
+    const auto stamp = std::chrono::steady_clock::now().time_since_epoch().count();
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("vitrum-" + tag + "-" + std::to_string(::getpid()) + "-" +
+                                       std::to_string(stamp) + "-" + std::to_string(counter++));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+int runVitrum(const std::string& args, const std::filesystem::path& log) {
+    const std::string cmd = std::string(VITRUM_BINARY) + " " + args + " > '" + log.string() + "' 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string readText(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+} // namespace vitrum::testing
