@@ -1,0 +1,41 @@
+#include "io/series_writer.hpp"
+
+#include "solver/errors.hpp"
+
+#include <cerrno>
+#include <cstring>
+
+namespace vitrum {
+
+SeriesWriter::SeriesWriter(const std::string& path, std::vector<std::string> columns)
+    : path_(path), columns_(std::move(columns)), file_(std::fopen(path.c_str(), "w")) {
+    if (!file_)
+        throw RuntimeFailure("cannot open '" + path_ + "' for writing: " + std::strerror(errno));
+    if (columns_.empty())
+        throw RuntimeFailure("series '" + path_ + "' has no columns");
+    for (std::size_t c = 0; c < columns_.size(); ++c) {
+        // Names are written unquoted, so a separator or quote in one would shift every column after it.
+        if (columns_[c].empty() || columns_[c].find_first_of(",\"\n\r") != std::string::npos)
+            throw RuntimeFailure("series '" + path_ + "': bad column name '" + columns_[c] + "'");
+        std::fprintf(file_.get(), c == 0 ? "%s" : ",%s", columns_[c].c_str());
+    }
+    std::fputc('\n', file_.get());
+}
+
+void SeriesWriter::row(std::span<const double> values) {
+    if (values.size() != columns_.size())
+        throw RuntimeFailure("series '" + path_ + "': row has " + std::to_string(values.size()) +
+                             " values for " + std::to_string(columns_.size()) + " columns");
+    for (std::size_t c = 0; c < values.size(); ++c)
+        std::fprintf(file_.get(), c == 0 ? "%.10g" : ",%.10g", values[c]);
+    std::fputc('\n', file_.get());
+    if (std::ferror(file_.get()))
+        throw RuntimeFailure("write to '" + path_ + "' failed");
+}
+
+void SeriesWriter::flush() {
+    if (std::fflush(file_.get()) != 0 || std::ferror(file_.get()))
+        throw RuntimeFailure("write to '" + path_ + "' failed: " + std::strerror(errno));
+}
+
+} // namespace vitrum

@@ -1,0 +1,31 @@
+// series.csv (DESIGN.md §6): one header row of column names, then one row of numbers per probe sample.
+#pragma once
+
+#include <cstdio>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace vitrum {
+
+/// CSV time series. Column names carry their unit (e.g. "time_ns", "force_N"); values are printed with
+/// %.10g. Throws RuntimeFailure if the file cannot be opened or written, or a row has the wrong length.
+class SeriesWriter {
+public:
+    SeriesWriter(const std::string& path, std::vector<std::string> columns);
+    void row(std::span<const double> values);
+    /// Pushes buffered rows to the file, so the series can be read while the run goes on.
+    void flush();
+    const std::vector<std::string>& columns() const { return columns_; }
+
+private:
+    struct FileCloser {
+        void operator()(std::FILE* file) const { std::fclose(file); }
+    };
+    std::string path_;
+    std::vector<std::string> columns_;
+    std::unique_ptr<std::FILE, FileCloser> file_;
+};
+
+} // namespace vitrum

@@ -1,0 +1,188 @@
+#include "io/vtk_writer.hpp"
+
+#include "solver/errors.hpp"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
+#include <vtkIdTypeArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace vitrum {
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+    throw RuntimeFailure("cannot write '" + path + "': " + what);
+}
+
+// VTK arrays own their storage, so the views are copied once here; the writer never keeps a pointer.
+vtkNew<vtkDoubleArray> toVtkArray(const std::string& path, const FieldView& field, std::size_t count) {
+    if (field.name.empty() || field.components < 1 || (count > 0 && field.data == nullptr))
+        fail(path, "field '" + field.name + "' has no name, no components or no data");
+    vtkNew<vtkDoubleArray> array;
+    array->SetName(field.name.c_str());
+    array->SetNumberOfComponents(field.components);
+    array->SetNumberOfTuples(static_cast<vtkIdType>(count));
+    std::copy_n(field.data, count * static_cast<std::size_t>(field.components), array->GetPointer(0));
+    return array;
+}
+
+vtkNew<vtkPoints> toVtkPoints(const std::string& path, std::size_t n, const double* positions) {
+    if (n > 0 && positions == nullptr)
+        fail(path, "no positions");
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble(); // keep full precision: maps are compared against the solver state
+    points->SetData(toVtkArray(path, FieldView{"Points", 3, positions}, n));
+    return points;
+}
+
+void writeGrid(const std::string& path, vtkUnstructuredGrid* grid) {
+    vtkNew<vtkXMLUnstructuredGridWriter> writer;
+    writer->SetFileName(path.c_str());
+    writer->SetInputData(grid);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff(); // raw binary rather than base64: a quarter smaller, ParaView reads both
+    writer->SetCompressorTypeToZLib();
+    writer->SetHeaderTypeToUInt64(); // 32-bit block headers overflow beyond 4 GiB of raw array data
+    if (writer->Write() == 1 && writer->GetErrorCode() == vtkErrorCode::NoError)
+        return;
+    // Codes below FirstVTKErrorCode are errno values. The enum is header-only; its string table lives in
+    // CommonMisc, which vitrum does not link, so the few codes a writer sets are named here.
+    const unsigned long code = writer->GetErrorCode();
+    if (code != vtkErrorCode::NoError && code < vtkErrorCode::FirstVTKErrorCode)
+        fail(path, std::strerror(static_cast<int>(code)));
+    if (code == vtkErrorCode::OutOfDiskSpaceError)
+        fail(path, "out of disk space");
+    fail(path, "VTK writer failed (error code " + std::to_string(code) + ")");
+}
+
+} // namespace
+
+void writeParticlesVtu(const std::string& path, std::size_t n, const double* positions, const double* radius,
+                       std::span<const FieldView> fields) {
+    vtkNew<vtkUnstructuredGrid> grid;
+    grid->SetPoints(toVtkPoints(path, n, positions));
+
+    // One vertex per particle: connectivity 0..n-1 with a fixed cell size of 1.
+    vtkNew<vtkIdTypeArray> connectivity;
+    connectivity->SetNumberOfTuples(static_cast<vtkIdType>(n));
+    for (std::size_t p = 0; p < n; ++p)
+        connectivity->SetValue(static_cast<vtkIdType>(p), static_cast<vtkIdType>(p));
+    vtkNew<vtkCellArray> cells;
+    if (!cells->SetData(1, connectivity))
+        fail(path, "cannot build vertex cells");
+    grid->SetCells(VTK_VERTEX, cells);
+
+    vtkPointData* point_data = grid->GetPointData();
+    point_data->AddArray(toVtkArray(path, FieldView{"radius", 1, radius}, n));
+    for (const FieldView& field : fields) {
+        if (point_data->HasArray(field.name.c_str()))
+            fail(path, "duplicate field name '" + field.name + "'");
+        point_data->AddArray(toVtkArray(path, field, n));
+    }
+    point_data->SetActiveScalars("radius"); // so ParaView's Glyph offers it first as the scale array
+    writeGrid(path, grid);
+}
+
+void writeBondsVtu(const std::string& path, std::size_t n_particles, const double* positions,
+                   std::size_t n_bonds, const std::int32_t* i, const std::int32_t* j,
+                   std::span<const FieldView> bond_fields) {
+    if (n_bonds > 0 && (i == nullptr || j == nullptr))
+        fail(path, "no bond indices");
+    vtkNew<vtkUnstructuredGrid> grid;
+    grid->SetPoints(toVtkPoints(path, n_particles, positions));
+
+    vtkNew<vtkIdTypeArray> connectivity;
+    connectivity->SetNumberOfTuples(static_cast<vtkIdType>(2 * n_bonds));
+    for (std::size_t b = 0; b < n_bonds; ++b) {
+        for (int end = 0; end < 2; ++end) {
+            const std::int32_t p = end == 0 ? i[b] : j[b];
+            if (p < 0 || static_cast<std::size_t>(p) >= n_particles)
+                fail(path, "bond " + std::to_string(b) + " refers to particle " + std::to_string(p) + " of " +
+                               std::to_string(n_particles));
+            connectivity->SetValue(static_cast<vtkIdType>(2 * b + end), p);
+        }
+    }
+    vtkNew<vtkCellArray> cells;
+    if (!cells->SetData(2, connectivity))
+        fail(path, "cannot build line cells");
+    grid->SetCells(VTK_LINE, cells);
+
+    vtkCellData* cell_data = grid->GetCellData();
+    for (const FieldView& field : bond_fields) {
+        if (cell_data->HasArray(field.name.c_str()))
+            fail(path, "duplicate field name '" + field.name + "'");
+        cell_data->AddArray(toVtkArray(path, field, n_bonds));
+    }
+    writeGrid(path, grid);
+}
+
+PvdCollection::PvdCollection(std::string path) : path_(std::move(path)) {}
+
+void PvdCollection::add(double time, const std::string& relative_file) {
+    entries_.emplace_back(time, relative_file);
+}
+
+void PvdCollection::write() const {
+    auto escaped = [](const std::string& text) {
+        std::string out;
+        for (char c : text) {
+            switch (c) {
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            default:
+                out += c;
+            }
+        }
+        return out;
+    };
+    // Write beside the target and rename over it, so a reader never sees a half-written index.
+    const std::string temporary = path_ + ".tmp";
+    {
+        std::ofstream out(temporary, std::ios::trunc);
+        if (!out)
+            fail(path_, "cannot open '" + temporary + "'");
+        out << "<?xml version=\"1.0\"?>\n"
+               "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+               "  <Collection>\n";
+        char time_text[32];
+        for (const auto& [time, file] : entries_) {
+            // Shortest text that reads back as the same double, so time steps stay exact and legible.
+            *std::to_chars(time_text, time_text + sizeof time_text - 1, time).ptr = '\0';
+            out << "    <DataSet timestep=\"" << time_text << "\" group=\"\" part=\"0\" file=\""
+                << escaped(file) << "\"/>\n";
+        }
+        out << "  </Collection>\n</VTKFile>\n";
+        out.close();
+        if (!out)
+            fail(path_, "write to '" + temporary + "' failed");
+    }
+    std::error_code error;
+    std::filesystem::rename(temporary, path_, error);
+    if (error)
+        fail(path_, error.message());
+}
+
+} // namespace vitrum
