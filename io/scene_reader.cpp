@@ -1,0 +1,858 @@
+#include "io/scene_reader.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <tuple>
+#include <utility>
+
+#include <toml++/toml.h>
+
+#include "io/units.hpp"
+#include "solver/errors.hpp"
+
+namespace vitrum {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The 1 + 6 effects of DESIGN.md §4; only the first two have kernels so far.
+const std::vector<std::string> kKnownEffects = {"elasticity", "densification", "fracture", "contact",
+                                                "indenter",   "coupling",      "damping"};
+const std::vector<std::string> kAvailableEffects = {"elasticity", "damping"};
+const std::vector<std::string> kOutputFields = {"displacement", "velocity",     "force", "angular_velocity",
+                                                "torque",       "coordination", "radius"};
+
+/// Shortest decimal that reads back to the same double (std::to_chars round-trip guarantee).
+std::string shortest(double x) {
+    char buf[64];
+    const auto result = std::to_chars(buf, buf + sizeof buf, x);
+    return std::string(buf, result.ptr);
+}
+
+/// A TOML float: integral values keep a ".0" so they stay floats and read as such in messages.
+std::string tomlFloat(double x) {
+    std::string s = shortest(x);
+    if (std::isfinite(x) && s.find_first_of(".e") == std::string::npos) {
+        s += ".0";
+    }
+    return s;
+}
+
+std::string tomlString(std::string_view s) {
+    std::string out = "\"";
+    for (const char c : s) {
+        const auto u = static_cast<unsigned char>(c);
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += c;
+        } else if (u < 0x20 || u == 0x7f) {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\u%04x", u);
+            out += buf;
+        } else {
+            out += c;
+        }
+    }
+    return out + "\"";
+}
+
+std::string joined(const std::vector<std::string>& items, bool quoted = false) {
+    std::string out;
+    for (const std::string& item : items) {
+        out += (out.empty() ? "" : ", ") + (quoted ? tomlString(item) : item);
+    }
+    return out;
+}
+
+bool contains(const std::vector<std::string>& items, std::string_view item) {
+    return std::find(items.begin(), items.end(), item) != items.end();
+}
+
+/// What a node holds, for "got ..." in messages.
+std::string describe(const toml::node& node) {
+    switch (node.type()) {
+    case toml::node_type::string:
+        return "the string " + tomlString(node.as_string()->get());
+    case toml::node_type::integer:
+        return std::to_string(node.as_integer()->get());
+    case toml::node_type::floating_point:
+        return tomlFloat(node.as_floating_point()->get());
+    case toml::node_type::boolean:
+        return node.as_boolean()->get() ? "true" : "false";
+    case toml::node_type::array:
+        return "an array of " + std::to_string(node.as_array()->size()) + " elements";
+    case toml::node_type::table:
+        return "a table";
+    case toml::node_type::date:
+        return "a date";
+    case toml::node_type::time:
+        return "a time";
+    case toml::node_type::date_time:
+        return "a date-time";
+    default:
+        return "nothing";
+    }
+}
+
+/// An allowed interval of a real-valued key; integers are accepted where it asks for a number.
+struct Range {
+    double lo = -kInf;
+    double hi = kInf;
+    bool lo_open = false;
+    bool hi_open = false;
+
+    bool contains(double x) const {
+        return std::isfinite(x) && (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
+    }
+    std::string text() const {
+        if (lo == hi) {
+            return shortest(lo);
+        }
+        if (hi == kInf) {
+            return lo == -kInf ? "a finite number"
+                               : (lo_open ? "a number > " : "a number >= ") + shortest(lo);
+        }
+        return "a number in " + std::string(lo_open ? "(" : "[") + shortest(lo) + ", " + shortest(hi) +
+               (hi_open ? ")" : "]");
+    }
+};
+
+const Range kAny{};
+const Range kPositive{0.0, kInf, true, false};
+const Range kNonNegative{0.0, kInf, false, false};
+
+struct StringItem {
+    std::string value;
+    const toml::node* node;
+};
+
+class SceneParser;
+
+/// One table of the scene under its dotted name: typed getters that validate and report against it. A
+/// getter returns nullopt when the key is absent (also when the whole table is).
+class TableReader {
+public:
+    TableReader(const SceneParser& parser, const toml::table* table, std::string name, std::string header)
+        : parser_(parser), table_(table), name_(std::move(name)), header_(std::move(header)) {}
+
+    const toml::table* table() const { return table_; }
+    const toml::node* find(std::string_view key) const { return table_ ? table_->get(key) : nullptr; }
+    std::string dotted(std::string_view key) const {
+        return name_.empty() ? std::string(key) : name_ + "." + std::string(key);
+    }
+
+    /// Keys outside `known` are errors: a misspelt key would otherwise silently fall back to its default.
+    void allowOnly(const std::vector<std::string>& known) const;
+    TableReader subtable(std::string_view key) const;
+
+    [[noreturn]] void mismatch(const toml::node& node, std::string_view key,
+                               const std::string& expected) const;
+    [[noreturn]] void missing(std::string_view key, const std::string& expected) const;
+
+    std::optional<std::string> string(std::string_view key) const;
+    std::optional<std::string> choice(std::string_view key, const std::vector<std::string>& choices) const;
+    /// `note` qualifies the expectation in messages: "in mm", "for kind = \"cundall\"".
+    std::optional<double> number(std::string_view key, const Range& range,
+                                 const std::string& note = "") const;
+    std::optional<long> integer(std::string_view key, long min) const;
+    std::optional<Vec3> vector3(std::string_view key, const Range& range, const std::string& unit) const;
+    /// An array of distinct strings, each with its node for later messages.
+    std::optional<std::vector<StringItem>> strings(std::string_view key) const;
+
+private:
+    const SceneParser& parser_;
+    const toml::table* table_;
+    std::string name_;   ///< dotted prefix of its keys ("sample", "boundary[1]", "" at the top)
+    std::string header_; ///< how messages name it ("[sample]", "[[boundary]]")
+};
+
+class SceneParser {
+public:
+    explicit SceneParser(std::string source_name) : source_name_(std::move(source_name)) {}
+
+    toml::table parseText(std::string_view text) const {
+        try {
+            return toml::parse(text, std::string_view(source_name_));
+        } catch (const toml::parse_error& e) {
+            fail(e.source(), "TOML syntax error: " + std::string(e.description()));
+        }
+    }
+
+    void applyOverride(toml::table& root, const std::string& assignment) const;
+    Scene build(const toml::table& root);
+
+    /// "file:line:col" for the file, or the override ("--set k=v") that put the node there.
+    std::string where(const toml::source_region& region) const {
+        if (isOverride(region)) {
+            return *region.path;
+        }
+        if (region.begin.line == 0) {
+            return source_name_;
+        }
+        return source_name_ + ":" + std::to_string(region.begin.line) + ":" +
+               std::to_string(region.begin.column);
+    }
+    [[noreturn]] void fail(const toml::source_region& region, const std::string& message) const {
+        throw InputError(where(region) + ": " + message);
+    }
+    const std::string& sourceName() const { return source_name_; }
+
+    /// Entries in the order the file gives them (toml::table is sorted by key), overrides last.
+    std::vector<std::pair<const toml::key*, const toml::node*>> inFileOrder(const toml::table& table) const {
+        std::vector<std::pair<const toml::key*, const toml::node*>> entries;
+        for (auto&& [key, node] : table) {
+            entries.emplace_back(&key, &node);
+        }
+        std::stable_sort(entries.begin(), entries.end(), [this](const auto& a, const auto& b) {
+            const toml::source_region& ra = a.first->source();
+            const toml::source_region& rb = b.first->source();
+            return std::make_tuple(isOverride(ra), ra.begin.line, ra.begin.column) <
+                   std::make_tuple(isOverride(rb), rb.begin.line, rb.begin.column);
+        });
+        return entries;
+    }
+
+private:
+    bool isOverride(const toml::source_region& region) const {
+        return region.path && *region.path != source_name_;
+    }
+
+    void readUnits(const TableReader& top, Scene& scene);
+    void readEffects(const TableReader& top, Scene& scene);
+    void readSample(const TableReader& top, Scene& scene) const;
+    void readMaterial(const TableReader& top, Scene& scene) const;
+    void readSets(const TableReader& top, Scene& scene) const;
+    void readBoundaries(const TableReader& top, Scene& scene) const;
+    void readDamping(const TableReader& top, Scene& scene) const;
+    void readTime(const TableReader& top, Scene& scene) const;
+    void readMeasure(const TableReader& top, Scene& scene) const;
+    void readOutput(const TableReader& top, Scene& scene) const;
+    std::string definedSet(const TableReader& table, std::string_view key, const Scene& scene) const;
+
+    std::string source_name_;
+    // Factors from the scene's [units] into internal units, set by readUnits before anything else is read.
+    double length_ = 1.0;
+    double stress_ = 1.0;
+    double time_ = 1.0;
+    double velocity_ = 1.0;
+    const toml::node* damping_effect_ = nullptr; ///< the "damping" entry of effects.list, for messages
+};
+
+// --- TableReader ------------------------------------------------------------------------------------------
+
+void TableReader::allowOnly(const std::vector<std::string>& known) const {
+    if (!table_) {
+        return;
+    }
+    for (const auto& [key, node] : parser_.inFileOrder(*table_)) {
+        if (!contains(known, key->str())) {
+            const std::string listing = name_.empty() ? "known tables: " : "known keys in " + header_ + ": ";
+            parser_.fail(key->source(),
+                         "unknown key '" + dotted(key->str()) + "' (" + listing + joined(known) + ")");
+        }
+    }
+}
+
+TableReader TableReader::subtable(std::string_view key) const {
+    const toml::node* node = find(key);
+    const std::string name = dotted(key);
+    if (node && !node->is_table()) {
+        mismatch(*node, key, "a table [" + name + "]");
+    }
+    return TableReader(parser_, node ? node->as_table() : nullptr, name, "[" + name + "]");
+}
+
+void TableReader::mismatch(const toml::node& node, std::string_view key, const std::string& expected) const {
+    parser_.fail(node.source(),
+                 "key '" + dotted(key) + "': expected " + expected + ", got " + describe(node));
+}
+
+void TableReader::missing(std::string_view key, const std::string& expected) const {
+    if (table_) {
+        parser_.fail(table_->source(),
+                     "missing key '" + dotted(key) + "' in " + header_ + ": expected " + expected);
+    }
+    throw InputError(parser_.sourceName() + ": missing key '" + dotted(key) + "' (there is no " + header_ +
+                     " table): expected " + expected);
+}
+
+std::optional<std::string> TableReader::string(std::string_view key) const {
+    const toml::node* node = find(key);
+    if (!node) {
+        return std::nullopt;
+    }
+    if (!node->is_string()) {
+        mismatch(*node, key, "a string");
+    }
+    return node->as_string()->get();
+}
+
+std::optional<std::string> TableReader::choice(std::string_view key,
+                                               const std::vector<std::string>& choices) const {
+    const toml::node* node = find(key);
+    if (!node) {
+        return std::nullopt;
+    }
+    if (!node->is_string() || !contains(choices, node->as_string()->get())) {
+        mismatch(*node, key, "one of " + joined(choices, true));
+    }
+    return node->as_string()->get();
+}
+
+std::optional<double> TableReader::number(std::string_view key, const Range& range,
+                                          const std::string& note) const {
+    const toml::node* node = find(key);
+    if (!node) {
+        return std::nullopt;
+    }
+    const std::string expected = range.text() + (note.empty() ? "" : " (" + note + ")");
+    if (!node->is_number()) {
+        mismatch(*node, key, expected);
+    }
+    const double x = node->is_integer() ? static_cast<double>(node->as_integer()->get())
+                                        : node->as_floating_point()->get();
+    if (!range.contains(x)) {
+        mismatch(*node, key, expected);
+    }
+    return x;
+}
+
+std::optional<long> TableReader::integer(std::string_view key, long min) const {
+    const toml::node* node = find(key);
+    if (!node) {
+        return std::nullopt;
+    }
+    if (!node->is_integer() || node->as_integer()->get() < min) {
+        mismatch(*node, key, "an integer >= " + std::to_string(min));
+    }
+    return static_cast<long>(node->as_integer()->get());
+}
+
+std::optional<Vec3> TableReader::vector3(std::string_view key, const Range& range,
+                                         const std::string& unit) const {
+    const toml::node* node = find(key);
+    if (!node) {
+        return std::nullopt;
+    }
+    const toml::array* array = node->as_array();
+    const std::string expected = "an array of 3 numbers, each " + range.text() + " (in " + unit + ")";
+    if (!array || array->size() != 3) {
+        mismatch(*node, key, expected);
+    }
+    Vec3 v;
+    for (int i = 0; i < 3; ++i) {
+        const toml::node& item = *array->get(i);
+        const std::string item_key = std::string(key) + "[" + std::to_string(i) + "]";
+        if (!item.is_number()) {
+            mismatch(item, item_key, range.text() + " (in " + unit + ")");
+        }
+        v[i] = item.is_integer() ? static_cast<double>(item.as_integer()->get())
+                                 : item.as_floating_point()->get();
+        if (!range.contains(v[i])) {
+            mismatch(item, item_key, range.text() + " (in " + unit + ")");
+        }
+    }
+    return v;
+}
+
+std::optional<std::vector<StringItem>> TableReader::strings(std::string_view key) const {
+    const toml::node* node = find(key);
+    if (!node) {
+        return std::nullopt;
+    }
+    if (!node->is_array()) {
+        mismatch(*node, key, "an array of strings");
+    }
+    std::vector<StringItem> items;
+    for (const toml::node& item : *node->as_array()) {
+        if (!item.is_string()) {
+            mismatch(item, std::string(key) + "[" + std::to_string(items.size()) + "]", "a string");
+        }
+        const std::string value = item.as_string()->get();
+        for (const StringItem& earlier : items) {
+            if (earlier.value == value) {
+                parser_.fail(item.source(), "key '" + dotted(key) + "': " + tomlString(value) +
+                                                " is listed twice (first at " +
+                                                parser_.where(earlier.node->source()) + ")");
+            }
+        }
+        items.push_back({value, &item});
+    }
+    return items;
+}
+
+// --- SceneParser ------------------------------------------------------------------------------------------
+
+/// An override's value replaces the file's, but its dotted-key tables merge into the file's, so
+/// `--set sample.particles=5` changes one key of [sample]; an inline table (`--set damping={kind="none"}`)
+/// replaces the whole table.
+void mergeInto(toml::table& into, toml::table& from) {
+    for (auto&& [key, node] : from) {
+        toml::node* existing = into.get(key.str());
+        if (existing && existing->is_table() && node.is_table() && !node.as_table()->is_inline()) {
+            mergeInto(*existing->as_table(), *node.as_table());
+        } else {
+            into.insert_or_assign(key, std::move(node)); // moving keeps the node's source: "--set ..."
+        }
+    }
+}
+
+void SceneParser::applyOverride(toml::table& root, const std::string& assignment) const {
+    const std::string label = "--set " + assignment;
+    const std::size_t equals = assignment.find('=');
+    if (equals == std::string::npos || assignment.find_first_of("\r\n") != std::string::npos) {
+        throw InputError(label + ": expected one line 'dotted.key=value' with the value in TOML syntax");
+    }
+    const std::string key = assignment.substr(0, equals);
+    const std::string value = assignment.substr(equals + 1);
+    if (key.find_first_not_of(" \t") == std::string::npos) {
+        throw InputError(label + ": expected 'dotted.key=value', got an empty key");
+    }
+    // Parsing "key = value" as a document lets toml++ split the dotted key and build the nested tables, and
+    // labels every node with the override so that validation errors point at it rather than at the file.
+    toml::table parsed;
+    try {
+        parsed = toml::parse(key + " = " + value, std::string_view(label));
+    } catch (const toml::parse_error& e) {
+        throw InputError(label + ": key '" + key + "': expected a TOML value (strings in quotes), got " +
+                         value + " (" + std::string(e.description()) + ")");
+    }
+    mergeInto(root, parsed);
+}
+
+Scene SceneParser::build(const toml::table& root) {
+    const TableReader top(*this, &root, "", "the scene");
+    top.allowOnly({"scene", "units", "effects", "sample", "material", "sets", "boundary", "damping", "time",
+                   "measure", "output"});
+    Scene scene;
+    scene.source_path = source_name_;
+    readUnits(top, scene); // first: the other tables' numbers are in these units
+    const TableReader meta = top.subtable("scene");
+    meta.allowOnly({"name", "seed"});
+    if (auto name = meta.string("name")) {
+        scene.name = *name;
+    }
+    if (auto seed = meta.integer("seed", 0)) {
+        scene.seed = static_cast<std::uint64_t>(*seed);
+    }
+    readEffects(top, scene);
+    readSample(top, scene);
+    readMaterial(top, scene);
+    readSets(top, scene); // before the tables that refer to sets by name
+    readBoundaries(top, scene);
+    readDamping(top, scene);
+    readTime(top, scene);
+    readMeasure(top, scene);
+    readOutput(top, scene);
+    return scene;
+}
+
+void SceneParser::readUnits(const TableReader& top, Scene& scene) {
+    const TableReader units = top.subtable("units");
+    units.allowOnly({"length", "stress", "force", "time"});
+    scene.units.length = units.choice("length", unitNames(Quantity::Length)).value_or(scene.units.length);
+    scene.units.stress = units.choice("stress", unitNames(Quantity::Stress)).value_or(scene.units.stress);
+    scene.units.force = units.choice("force", unitNames(Quantity::Force)).value_or(scene.units.force);
+    scene.units.time = units.choice("time", unitNames(Quantity::Time)).value_or(scene.units.time);
+    length_ = lengthFactor(scene.units.length);
+    stress_ = stressFactor(scene.units.stress);
+    time_ = timeFactor(scene.units.time);
+    velocity_ = velocityFactor(scene.units.length, scene.units.time);
+}
+
+void SceneParser::readEffects(const TableReader& top, Scene& scene) {
+    const TableReader effects = top.subtable("effects");
+    effects.allowOnly({"list"});
+    const auto list = effects.strings("list");
+    if (!list) {
+        return;
+    }
+    scene.effects.clear();
+    for (const StringItem& item : *list) {
+        if (!contains(kKnownEffects, item.value)) {
+            fail(item.node->source(), "key 'effects.list': unknown effect " + tomlString(item.value) +
+                                          " (known effects: " + joined(kKnownEffects) + ")");
+        }
+        if (!contains(kAvailableEffects, item.value)) {
+            fail(item.node->source(), "key 'effects.list': effect '" + item.value +
+                                          "' is not available yet in this version of vitrum (available: " +
+                                          joined(kAvailableEffects) + ")");
+        }
+        if (item.value == "damping") {
+            damping_effect_ = item.node;
+        }
+        scene.effects.push_back(item.value);
+    }
+    // Every other effect acts on the elastic bond network, so it is always composed, and first.
+    if (!contains(scene.effects, "elasticity")) {
+        scene.effects.insert(scene.effects.begin(), "elasticity");
+    }
+}
+
+void SceneParser::readSample(const TableReader& top, Scene& scene) const {
+    const TableReader sample = top.subtable("sample");
+    sample.allowOnly({"lattice", "shape", "size", "radius", "height", "particles", "bond_tolerance"});
+    SampleParams& p = scene.sample;
+    p.lattice = sample.choice("lattice", {"sc", "fcc"}).value_or(p.lattice);
+    p.shape = sample.choice("shape", {"box", "cylinder", "sphere", "hemisphere"}).value_or(p.shape);
+    if (auto size = sample.vector3("size", kPositive, scene.units.length)) {
+        for (int i = 0; i < 3; ++i) {
+            p.size[i] = toInternal((*size)[i], length_);
+        }
+    }
+    if (auto radius = sample.number("radius", kPositive, "in " + scene.units.length)) {
+        p.radius = toInternal(*radius, length_);
+    }
+    if (auto height = sample.number("height", kPositive, "in " + scene.units.length)) {
+        p.height = toInternal(*height, length_);
+    }
+    p.particles = sample.integer("particles", 2).value_or(p.particles);
+    p.bond_tolerance = sample.number("bond_tolerance", Range{0.0, 0.5}).value_or(p.bond_tolerance);
+}
+
+void SceneParser::readMaterial(const TableReader& top, Scene& scene) const {
+    const TableReader material = top.subtable("material");
+    material.allowOnly({"density", "beam_young_modulus", "beam_poisson_ratio", "beam_radius_ratio"});
+    MaterialParams& m = scene.material;
+    if (auto density = material.number("density", kPositive, "in kg/m^3")) {
+        m.density = toInternal(*density, 1e-3); // kg/m³ → 10³ kg/m³
+    }
+    if (auto young = material.number("beam_young_modulus", kPositive, "in " + scene.units.stress)) {
+        m.beam_young = toInternal(*young, stress_);
+    }
+    m.beam_poisson =
+        material.number("beam_poisson_ratio", Range{-1.0, 0.5, true, true}).value_or(m.beam_poisson);
+    m.radius_ratio =
+        material.number("beam_radius_ratio", Range{0.0, 2.0, true, false}).value_or(m.radius_ratio);
+}
+
+bool isSetName(std::string_view name) {
+    const auto head = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; };
+    const auto tail = [&](char c) {
+        return head(c) || std::isdigit(static_cast<unsigned char>(c)) || c == '-';
+    };
+    return !name.empty() && head(name.front()) && std::all_of(name.begin() + 1, name.end(), tail);
+}
+
+void SceneParser::readSets(const TableReader& top, Scene& scene) const {
+    const TableReader sets = top.subtable("sets");
+    if (!sets.table()) {
+        return;
+    }
+    for (const auto& [key, node] : inFileOrder(*sets.table())) {
+        const std::string name(key->str());
+        if (!isSetName(name)) {
+            fail(key->source(), "key 'sets." + name +
+                                    "': a set name must match [A-Za-z_][A-Za-z0-9_-]*, got " +
+                                    tomlString(name));
+        }
+        if (!node->is_string() || node->as_string()->get().empty()) {
+            sets.mismatch(*node, name, "a selector string (see solver/sets.hpp)");
+        }
+        scene.sets.push_back({name, node->as_string()->get()});
+    }
+}
+
+std::vector<std::string> setNames(const Scene& scene) {
+    std::vector<std::string> names;
+    for (const SetParams& set : scene.sets) {
+        names.push_back(set.name);
+    }
+    return names;
+}
+
+std::string definedSetsText(const std::vector<std::string>& names) {
+    return "a set defined in [sets] (" + (names.empty() ? std::string("none are") : joined(names)) + ")";
+}
+
+std::string SceneParser::definedSet(const TableReader& table, std::string_view key,
+                                    const Scene& scene) const {
+    const toml::node* node = table.find(key);
+    const std::vector<std::string> names = setNames(scene);
+    if (!node->is_string() || !contains(names, node->as_string()->get())) {
+        table.mismatch(*node, key, definedSetsText(names));
+    }
+    return node->as_string()->get();
+}
+
+void SceneParser::readBoundaries(const TableReader& top, Scene& scene) const {
+    const toml::node* node = top.find("boundary");
+    if (!node) {
+        return;
+    }
+    const toml::array* array = node->as_array();
+    if (!array ||
+        std::any_of(array->begin(), array->end(), [](const toml::node& n) { return !n.is_table(); })) {
+        top.mismatch(*node, "boundary", "an array of tables [[boundary]]");
+    }
+    for (std::size_t i = 0; i < array->size(); ++i) {
+        const TableReader b(*this, array->get(i)->as_table(), "boundary[" + std::to_string(i) + "]",
+                            "[[boundary]]");
+        b.allowOnly({"set", "kind", "velocity", "displacement", "ramp_time"});
+        BoundaryParams params;
+        if (!b.find("set")) {
+            b.missing("set", "the name of a set defined in [sets]");
+        }
+        params.set = definedSet(b, "set", scene);
+        const auto kind = b.choice("kind", {"fixed", "velocity", "displacement"});
+        if (!kind) {
+            b.missing("kind", "one of \"fixed\", \"velocity\", \"displacement\"");
+        }
+        params.kind = *kind == "fixed"      ? BoundaryKind::Fixed
+                      : *kind == "velocity" ? BoundaryKind::Velocity
+                                            : BoundaryKind::Displacement;
+        // A value given for another kind is a contradiction the user should resolve, not something to ignore.
+        for (const char* key : {"velocity", "displacement", "ramp_time"}) {
+            const bool applies =
+                std::string_view(key) == "ramp_time" ? *kind == "displacement" : *kind == key;
+            if (const toml::node* given = b.find(key); given && !applies) {
+                fail(given->source(), "key '" + b.dotted(key) + "': not used with kind = " +
+                                          tomlString(*kind) + ", got " + describe(*given));
+            }
+        }
+        const std::string velocity_unit = scene.units.length + "/" + scene.units.time;
+        if (params.kind == BoundaryKind::Velocity) {
+            const auto v = b.vector3("velocity", kAny, velocity_unit);
+            if (!v) {
+                b.missing("velocity", "[vx, vy, vz] (in " + velocity_unit + ") for kind = \"velocity\"");
+            }
+            for (int k = 0; k < 3; ++k) {
+                params.value[k] = toInternal((*v)[k], velocity_);
+            }
+        } else if (params.kind == BoundaryKind::Displacement) {
+            const auto u = b.vector3("displacement", kAny, scene.units.length);
+            if (!u) {
+                b.missing("displacement",
+                          "[ux, uy, uz] (in " + scene.units.length + ") for kind = \"displacement\"");
+            }
+            for (int k = 0; k < 3; ++k) {
+                params.value[k] = toInternal((*u)[k], length_);
+            }
+            params.ramp_time = toInternal(
+                b.number("ramp_time", kNonNegative, "in " + scene.units.time).value_or(0.0), time_);
+        }
+        scene.boundaries.push_back(params);
+    }
+}
+
+void SceneParser::readDamping(const TableReader& top, Scene& scene) const {
+    const TableReader damping = top.subtable("damping");
+    // Damping changes the physics, so it must be asked for twice (effect and parameters), never implied.
+    if (damping.table() && !scene.hasEffect("damping")) {
+        fail(damping.table()->source(),
+             "table [damping] is given but effects.list does not contain \"damping\" "
+             "(expected \"damping\" in effects.list, or no [damping] table)");
+    }
+    if (!scene.hasEffect("damping")) {
+        return;
+    }
+    if (!damping.table()) {
+        fail(damping_effect_->source(),
+             "key 'effects.list': the effect \"damping\" expected a [damping] table "
+             "with kind and coefficient, found none");
+    }
+    damping.allowOnly({"kind", "coefficient"});
+    const auto kind = damping.choice("kind", {"none", "cundall", "bond-viscous"});
+    if (!kind) {
+        damping.missing("kind", "one of \"none\", \"cundall\", \"bond-viscous\"");
+    }
+    DampingParams& d = scene.damping;
+    d.kind = *kind == "none"      ? DampingKind::None
+             : *kind == "cundall" ? DampingKind::CundallLocal
+                                  : DampingKind::BondViscous;
+    const Range range = d.kind == DampingKind::None           ? Range{0.0, 0.0}
+                        : d.kind == DampingKind::CundallLocal ? Range{0.0, 1.0, false, true}
+                                                              : kNonNegative;
+    const auto coefficient = damping.number("coefficient", range, "for kind = " + tomlString(*kind));
+    if (!coefficient && d.kind != DampingKind::None) {
+        damping.missing("coefficient", range.text() + " for kind = " + tomlString(*kind));
+    }
+    d.coefficient = coefficient.value_or(0.0);
+}
+
+void SceneParser::readTime(const TableReader& top, Scene& scene) const {
+    const TableReader time = top.subtable("time");
+    time.allowOnly({"safety_ratio", "duration"});
+    scene.time.safety_ratio =
+        time.number("safety_ratio", Range{0.0, 1.0, true, false}).value_or(scene.time.safety_ratio);
+    // No default duration: how long to simulate is the one choice a scene cannot leave to vitrum.
+    const auto duration = time.number("duration", kPositive, "in " + scene.units.time);
+    if (!duration) {
+        time.missing("duration", kPositive.text() + " (in " + scene.units.time + ")");
+    }
+    scene.time.duration = toInternal(*duration, time_);
+}
+
+void SceneParser::readMeasure(const TableReader& top, Scene& scene) const {
+    const TableReader measure = top.subtable("measure");
+    if (!measure.table()) {
+        return;
+    }
+    measure.allowOnly({"kind", "loaded_set", "axis"});
+    if (!measure.choice("kind", {"uniaxial"})) {
+        measure.missing("kind", "\"uniaxial\"");
+    }
+    scene.measure.uniaxial = true;
+    if (!measure.find("loaded_set")) {
+        measure.missing("loaded_set", "the name of a set defined in [sets]");
+    }
+    scene.measure.loaded_set = definedSet(measure, "loaded_set", scene);
+    if (auto axis = measure.choice("axis", {"x", "y", "z"})) {
+        scene.measure.axis = (*axis)[0] - 'x';
+    }
+}
+
+void SceneParser::readOutput(const TableReader& top, Scene& scene) const {
+    const TableReader output = top.subtable("output");
+    output.allowOnly({"every", "maps", "fields", "reactions"});
+    OutputParams& o = scene.output;
+    o.every = output.integer("every", 1).value_or(o.every);
+    o.maps = output.integer("maps", 0).value_or(o.maps);
+    if (auto fields = output.strings("fields")) {
+        o.fields.clear();
+        for (const StringItem& item : *fields) {
+            if (!contains(kOutputFields, item.value)) {
+                fail(item.node->source(), "key 'output.fields': expected one of " +
+                                              joined(kOutputFields, true) + ", got " + describe(*item.node));
+            }
+            o.fields.push_back(item.value);
+        }
+    }
+    if (auto reactions = output.strings("reactions")) {
+        const std::vector<std::string> names = setNames(scene);
+        o.reactions.clear();
+        for (const StringItem& item : *reactions) {
+            if (!contains(names, item.value)) {
+                fail(item.node->source(), "key 'output.reactions': expected " + definedSetsText(names) +
+                                              ", got " + describe(*item.node));
+            }
+            o.reactions.push_back(item.value);
+        }
+    }
+}
+
+// --- writing ----------------------------------------------------------------------------------------------
+
+std::string fileFloat(double internal, double factor) {
+    return tomlFloat(fromInternal(internal, factor));
+}
+
+std::string fileVec(const Vec3& internal, double factor) {
+    return "[" + fileFloat(internal.x(), factor) + ", " + fileFloat(internal.y(), factor) + ", " +
+           fileFloat(internal.z(), factor) + "]";
+}
+
+std::string tomlStrings(const std::vector<std::string>& items) {
+    std::string out =
+        "["; // appended rather than `"[" + ... + "]"`, which trips GCC 12's -Wrestrict false positive
+    out += joined(items, true);
+    return out += "]";
+}
+
+} // namespace
+
+Scene parseScene(std::string_view toml_text, const std::string& source_name,
+                 const std::vector<std::string>& overrides) {
+    SceneParser parser(source_name);
+    toml::table root = parser.parseText(toml_text);
+    for (const std::string& assignment : overrides) {
+        parser.applyOverride(root, assignment);
+    }
+    return parser.build(root);
+}
+
+Scene readScene(const std::string& path, const std::vector<std::string>& overrides) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw InputError("cannot open scene file '" + path + "'");
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parseScene(text.str(), path, overrides);
+}
+
+std::string resolvedSceneToml(const Scene& scene) {
+    const UnitSystem& u = scene.units;
+    const double length = lengthFactor(u.length);
+    const double stress = stressFactor(u.stress);
+    const double time = timeFactor(u.time);
+    const double velocity = velocityFactor(u.length, u.time);
+    std::string source = scene.source_path;
+    std::replace_if(
+        source.begin(), source.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+
+    std::ostringstream out;
+    out << "# Scene resolved by vitrum from " << source << ": every default filled in, numbers in the units\n"
+        << "# of [units] below (density in kg/m^3, velocity in length/time). Reading it back gives the same "
+           "scene.\n\n";
+    out << "[scene]\nname = " << tomlString(scene.name) << "\nseed = " << scene.seed << "\n\n";
+    out << "[units]\nlength = " << tomlString(u.length) << "\nstress = " << tomlString(u.stress)
+        << "\nforce = " << tomlString(u.force) << "\ntime = " << tomlString(u.time) << "\n\n";
+    out << "[effects]\nlist = " << tomlStrings(scene.effects) << "\n\n";
+
+    const SampleParams& s = scene.sample;
+    out << "[sample]\nlattice = " << tomlString(s.lattice) << "\nshape = " << tomlString(s.shape)
+        << "\nsize = " << fileVec(s.size, length) << " # " << u.length
+        << "\nradius = " << fileFloat(s.radius, length) << " # " << u.length
+        << "\nheight = " << fileFloat(s.height, length) << " # " << u.length
+        << "\nparticles = " << s.particles << "\nbond_tolerance = " << tomlFloat(s.bond_tolerance) << "\n\n";
+
+    const MaterialParams& m = scene.material;
+    out << "[material]\ndensity = " << fileFloat(m.density, 1e-3) << " # kg/m^3"
+        << "\nbeam_young_modulus = " << fileFloat(m.beam_young, stress) << " # " << u.stress
+        << "\nbeam_poisson_ratio = " << tomlFloat(m.beam_poisson)
+        << "\nbeam_radius_ratio = " << tomlFloat(m.radius_ratio) << "\n\n";
+
+    if (!scene.sets.empty()) {
+        out << "[sets]\n";
+        for (const SetParams& set : scene.sets) {
+            out << set.name << " = " << tomlString(set.where) << "\n";
+        }
+        out << "\n";
+    }
+    for (const BoundaryParams& b : scene.boundaries) {
+        out << "[[boundary]]\nset = " << tomlString(b.set) << "\n";
+        switch (b.kind) {
+        case BoundaryKind::Fixed:
+            out << "kind = \"fixed\"\n";
+            break;
+        case BoundaryKind::Velocity:
+            out << "kind = \"velocity\"\nvelocity = " << fileVec(b.value, velocity) << " # " << u.length
+                << "/" << u.time << "\n";
+            break;
+        case BoundaryKind::Displacement:
+            out << "kind = \"displacement\"\ndisplacement = " << fileVec(b.value, length) << " # " << u.length
+                << "\nramp_time = " << fileFloat(b.ramp_time, time) << " # " << u.time << "\n";
+            break;
+        }
+        out << "\n";
+    }
+    if (scene.hasEffect("damping")) {
+        const DampingParams& d = scene.damping;
+        const char* kind = d.kind == DampingKind::None           ? "none"
+                           : d.kind == DampingKind::CundallLocal ? "cundall"
+                                                                 : "bond-viscous";
+        out << "[damping]\nkind = \"" << kind << "\"\ncoefficient = " << tomlFloat(d.coefficient) << "\n\n";
+    }
+    out << "[time]\nsafety_ratio = " << tomlFloat(scene.time.safety_ratio)
+        << "\nduration = " << fileFloat(scene.time.duration, time) << " # " << u.time << "\n\n";
+    if (scene.measure.uniaxial) {
+        out << "[measure]\nkind = \"uniaxial\"\nloaded_set = " << tomlString(scene.measure.loaded_set)
+            << "\naxis = \"" << static_cast<char>('x' + scene.measure.axis) << "\"\n\n";
+    }
+    const OutputParams& o = scene.output;
+    out << "[output]\nevery = " << o.every << "\nmaps = " << o.maps << "\nfields = " << tomlStrings(o.fields)
+        << "\nreactions = " << tomlStrings(o.reactions) << "\n";
+    return out.str();
+}
+
+} // namespace vitrum

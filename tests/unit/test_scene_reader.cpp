@@ -1,0 +1,380 @@
+// io/scene_reader: TOML → Scene, units, overrides, error messages, and the resolved-scene round trip.
+#include <fstream>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "io/scene_reader.hpp"
+#include "io/units.hpp"
+#include "solver/errors.hpp"
+#include "support/test_support.hpp"
+
+namespace vitrum {
+namespace {
+
+constexpr const char* kMinimal = "[time]\nduration = 1.0\n";
+
+const char* const kFull = R"([scene]
+name = "round \"trip\" \u00e9"
+seed = 42
+
+[units]
+length = "mm"
+stress = "MPa"
+force = "mN"
+time = "us"
+
+[effects]
+list = ["damping"]
+
+[sample]
+lattice = "sc"
+shape = "cylinder"
+size = [0.1, 0.2, 0.3]
+radius = 0.0123
+height = 0.045
+particles = 5000
+bond_tolerance = 0.1
+
+[material]
+density = 2203.7
+beam_young_modulus = 414000
+beam_poisson_ratio = 0.17
+beam_radius_ratio = 0.57
+
+[sets]
+top = "z > 0.044"
+bottom = "z < 0.001"
+side-wall = "r > 0.012"
+
+[[boundary]]
+set = "bottom"
+kind = "fixed"
+
+[[boundary]]
+set = "top"
+kind = "velocity"
+velocity = [0, 0.1, -0.3]
+
+[[boundary]]
+set = "side-wall"
+kind = "displacement"
+displacement = [1e-4, 0, 3.3e-5]
+ramp_time = 0.25
+
+[damping]
+kind = "cundall"
+coefficient = 0.05
+
+[time]
+safety_ratio = 0.2
+duration = 1.5
+
+[measure]
+kind = "uniaxial"
+loaded_set = "top"
+axis = "y"
+
+[output]
+every = 50
+maps = 0
+fields = ["displacement", "radius"]
+reactions = ["top", "bottom"]
+)";
+
+/// The message of the InputError that parsing `text` must throw.
+std::string errorOf(const std::string& text, const std::vector<std::string>& overrides = {}) {
+    try {
+        parseScene(text, "q.toml", overrides);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no InputError for:\n" << text;
+    return "";
+}
+
+void expectMentions(const std::string& message, std::initializer_list<std::string> parts) {
+    for (const std::string& part : parts) {
+        EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' missing from: " << message;
+    }
+}
+
+void expectSameVec(const Vec3& a, const Vec3& b) {
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(a[i], b[i]) << "component " << i;
+    }
+}
+
+// Exact comparisons throughout: the resolved TOML must reproduce every double bit for bit.
+void expectSameScene(const Scene& a, const Scene& b) {
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.seed, b.seed);
+    EXPECT_EQ(a.units.length, b.units.length);
+    EXPECT_EQ(a.units.stress, b.units.stress);
+    EXPECT_EQ(a.units.force, b.units.force);
+    EXPECT_EQ(a.units.time, b.units.time);
+    EXPECT_EQ(a.effects, b.effects);
+    EXPECT_EQ(a.sample.lattice, b.sample.lattice);
+    EXPECT_EQ(a.sample.shape, b.sample.shape);
+    expectSameVec(a.sample.size, b.sample.size);
+    EXPECT_EQ(a.sample.radius, b.sample.radius);
+    EXPECT_EQ(a.sample.height, b.sample.height);
+    EXPECT_EQ(a.sample.particles, b.sample.particles);
+    EXPECT_EQ(a.sample.bond_tolerance, b.sample.bond_tolerance);
+    EXPECT_EQ(a.material.density, b.material.density);
+    EXPECT_EQ(a.material.beam_young, b.material.beam_young);
+    EXPECT_EQ(a.material.beam_poisson, b.material.beam_poisson);
+    EXPECT_EQ(a.material.radius_ratio, b.material.radius_ratio);
+    ASSERT_EQ(a.sets.size(), b.sets.size());
+    for (std::size_t i = 0; i < a.sets.size(); ++i) {
+        EXPECT_EQ(a.sets[i].name, b.sets[i].name);
+        EXPECT_EQ(a.sets[i].where, b.sets[i].where);
+    }
+    ASSERT_EQ(a.boundaries.size(), b.boundaries.size());
+    for (std::size_t i = 0; i < a.boundaries.size(); ++i) {
+        EXPECT_EQ(a.boundaries[i].set, b.boundaries[i].set);
+        EXPECT_EQ(a.boundaries[i].kind, b.boundaries[i].kind);
+        expectSameVec(a.boundaries[i].value, b.boundaries[i].value);
+        EXPECT_EQ(a.boundaries[i].ramp_time, b.boundaries[i].ramp_time);
+    }
+    EXPECT_EQ(a.damping.kind, b.damping.kind);
+    EXPECT_EQ(a.damping.coefficient, b.damping.coefficient);
+    EXPECT_EQ(a.time.safety_ratio, b.time.safety_ratio);
+    EXPECT_EQ(a.time.duration, b.time.duration);
+    EXPECT_EQ(a.measure.uniaxial, b.measure.uniaxial);
+    EXPECT_EQ(a.measure.loaded_set, b.measure.loaded_set);
+    EXPECT_EQ(a.measure.axis, b.measure.axis);
+    EXPECT_EQ(a.output.every, b.output.every);
+    EXPECT_EQ(a.output.maps, b.output.maps);
+    EXPECT_EQ(a.output.fields, b.output.fields);
+    EXPECT_EQ(a.output.reactions, b.output.reactions);
+    EXPECT_EQ(a.source_path, b.source_path);
+}
+
+TEST(SceneReader, FullSceneIsReadAndRoundTripsThroughResolvedToml) {
+    const Scene scene = parseScene(kFull, "q.toml");
+    EXPECT_EQ(scene.name, "round \"trip\" \u00e9");
+    EXPECT_EQ(scene.effects, (std::vector<std::string>{"elasticity", "damping"}));
+    ASSERT_EQ(scene.sets.size(), 3u); // file order, not the key order toml++ stores them in
+    EXPECT_EQ(scene.sets[0].name, "top");
+    EXPECT_EQ(scene.sets[2].name, "side-wall");
+    EXPECT_EQ(scene.boundaries[1].kind, BoundaryKind::Velocity);
+    EXPECT_EQ(scene.damping.kind, DampingKind::CundallLocal);
+    EXPECT_TRUE(scene.measure.uniaxial);
+    EXPECT_EQ(scene.measure.axis, 1);
+
+    const std::string resolved = resolvedSceneToml(scene);
+    EXPECT_NE(resolved.find("# Scene resolved by vitrum"), std::string::npos);
+    EXPECT_NE(resolved.find("kg/m^3"), std::string::npos);
+    expectSameScene(scene, parseScene(resolved, "q.toml"));
+}
+
+TEST(SceneReader, DefaultsAreFilledInAndRoundTrip) {
+    const Scene scene = parseScene(kMinimal, "q.toml");
+    const Scene defaults;
+    EXPECT_EQ(scene.effects, defaults.effects);
+    EXPECT_EQ(scene.sample.particles, defaults.sample.particles);
+    EXPECT_EQ(scene.material.density, defaults.material.density);
+    EXPECT_EQ(scene.source_path, "q.toml");
+    const std::string resolved = resolvedSceneToml(scene);
+    EXPECT_NE(resolved.find("particles = 1000"), std::string::npos) << resolved;
+    expectSameScene(scene, parseScene(resolved, "q.toml"));
+}
+
+TEST(SceneReader, AwkwardValuesRoundTripInEveryUnit) {
+    for (const std::string& length : unitNames(Quantity::Length)) {
+        for (const std::string& time : unitNames(Quantity::Time)) {
+            for (const std::string& stress : unitNames(Quantity::Stress)) {
+                SCOPED_TRACE("defaults in " + length + " " + time + " " + stress);
+                const Scene defaults =
+                    parseScene(kMinimal, "q.toml",
+                               {"units.length=\"" + length + "\"", "units.time=\"" + time + "\"",
+                                "units.stress=\"" + stress + "\""});
+                expectSameScene(defaults, parseScene(resolvedSceneToml(defaults), "q.toml"));
+            }
+            for (const char* value : {"0.1", "0.3", "0.3333333333333333", "123.456", "7e-5", "2.2"}) {
+                const std::string v = value;
+                const Scene scene = parseScene(
+                    "[sets]\na = \"all\"\n", "q.toml",
+                    {"units.length=\"" + length + "\"", "units.time=\"" + time + "\"", "units.stress=\"kPa\"",
+                     "sample.radius=" + v, "sample.size=[" + v + ", 1, " + v + "]", "time.duration=" + v,
+                     "material.density=" + v, "material.beam_young_modulus=" + v,
+                     "boundary=[{set=\"a\", kind=\"velocity\", velocity=[" + v + ", -" + v + ", 0]}]"});
+                SCOPED_TRACE(length + " " + time + " " + v);
+                expectSameScene(scene, parseScene(resolvedSceneToml(scene), "q.toml"));
+            }
+        }
+    }
+}
+
+TEST(SceneReader, ConvertsUnitsToInternal) {
+    const Scene scene = parseScene(kFull, "q.toml");
+    EXPECT_DOUBLE_EQ(scene.sample.size.x(), 100.0); // 0.1 mm
+    EXPECT_DOUBLE_EQ(scene.sample.radius, 12.3);
+    EXPECT_DOUBLE_EQ(scene.material.beam_young, 414.0); // 414000 MPa
+    EXPECT_DOUBLE_EQ(scene.material.density, 2.2037);   // kg/m³ → 10³ kg/m³
+    EXPECT_DOUBLE_EQ(scene.time.duration, 1500.0);      // 1.5 us
+    EXPECT_DOUBLE_EQ(scene.boundaries[2].ramp_time, 250.0);
+    EXPECT_DOUBLE_EQ(scene.boundaries[1].value.z(), -0.3); // 0.3 mm/us = 0.3 µm/ns
+    EXPECT_DOUBLE_EQ(scene.boundaries[2].value.x(), 0.1);  // 1e-4 mm
+
+    const Scene um_us = parseScene("[units]\nlength = \"um\"\ntime = \"us\"\n[sets]\ns = \"all\"\n"
+                                   "[[boundary]]\nset = \"s\"\nkind = \"velocity\"\nvelocity = [0, 0, -2]\n"
+                                   "[time]\nduration = 3\n",
+                                   "q.toml");
+    EXPECT_DOUBLE_EQ(um_us.boundaries[0].value.z(), -2e-3); // µm/µs → µm/ns (km/s)
+    EXPECT_DOUBLE_EQ(um_us.time.duration, 3000.0);
+
+    // Factors below 1 divide by an exact power of ten, so round numbers stay round.
+    const Scene nm =
+        parseScene("[units]\nlength = \"nm\"\nstress = \"Pa\"\n[sample]\nradius = 100\n"
+                   "[material]\nbeam_young_modulus = 7e10\ndensity = 2200\n[time]\nduration = 1\n",
+                   "q.toml");
+    EXPECT_EQ(nm.sample.radius, 0.1);
+    EXPECT_EQ(nm.material.beam_young, 70.0);
+    EXPECT_EQ(nm.material.density, 2.2);
+    EXPECT_EQ(forceFactor("N"), 1e3);
+    EXPECT_THROW(lengthFactor("km"), std::invalid_argument);
+}
+
+TEST(SceneReader, UnknownKeyNamesLineKeyAndKnownKeys) {
+    const std::string message = errorOf("[time]\nduration = 1\n\n[sample]\nparticles = 10\npartcles = 5\n");
+    expectMentions(message,
+                   {"q.toml:6:1:", "unknown key 'sample.partcles'", "known keys in [sample]: lattice"});
+    expectMentions(errorOf("[time]\nduration = 1\n[sampel]\n"),
+                   {"q.toml:3:", "unknown key 'sampel'", "known tables"});
+}
+
+TEST(SceneReader, WrongTypeSaysExpectedAndFound) {
+    expectMentions(
+        errorOf("[time]\nduration = 1\n[sample]\nparticles = \"many\"\n"),
+        {"q.toml:4:13:", "key 'sample.particles'", "expected an integer >= 2", "got the string \"many\""});
+    expectMentions(errorOf("[time]\nduration = 1\n[sample]\nparticles = 2000.0\n"),
+                   {"q.toml:4:13:", "key 'sample.particles'", "got 2000.0"});
+    expectMentions(
+        errorOf("[time]\nduration = 1\n[sample]\nsize = [1, 2]\n"),
+        {"q.toml:4:8:", "key 'sample.size'", "an array of 3 numbers", "got an array of 2 elements"});
+    expectMentions(errorOf("sample = 3\n[time]\nduration = 1\n"),
+                   {"q.toml:1:10:", "key 'sample'", "a table"});
+}
+
+TEST(SceneReader, OutOfRangeSaysRangeAndValue) {
+    expectMentions(errorOf("[time]\nduration = 1\n[sample]\nparticles = -5\n"),
+                   {"q.toml:4:13:", "key 'sample.particles'", "expected an integer >= 2, got -5"});
+    expectMentions(errorOf("[time]\nduration = 1\n[material]\nbeam_poisson_ratio = 0.5\n"),
+                   {"q.toml:4:22:", "key 'material.beam_poisson_ratio'", "a number in (-1, 0.5)", "got 0.5"});
+    expectMentions(errorOf("[time]\nduration = 1\n[sample]\nsize = [1, -2, 3]\n"),
+                   {"q.toml:4:12:", "key 'sample.size[1]'", "a number > 0 (in um)", "got -2"});
+    expectMentions(errorOf("[time]\nduration = 1\n[units]\nlength = \"km\"\n"),
+                   {"q.toml:4:10:", "key 'units.length'", "one of \"m\", \"mm\", \"um\", \"nm\""});
+    expectMentions(errorOf("[time]\nduration = inf\n"), {"q.toml:2:12:", "key 'time.duration'", "got inf"});
+}
+
+TEST(SceneReader, EffectsAreCheckedByName) {
+    expectMentions(
+        errorOf("[effects]\nlist = [\"elasticity\", \"plasticity\"]\n[time]\nduration = 1\n"),
+        {"q.toml:2:23:", "key 'effects.list'", "unknown effect \"plasticity\"", "known effects: elasticity"});
+    expectMentions(
+        errorOf("[effects]\nlist = [\"fracture\"]\n[time]\nduration = 1\n"),
+        {"q.toml:2:9:", "key 'effects.list'", "effect 'fracture' is not available yet in this version"});
+    expectMentions(errorOf("[effects]\nlist = [\"elasticity\", \"elasticity\"]\n[time]\nduration = 1\n"),
+                   {"q.toml:2:23:", "key 'effects.list'", "listed twice", "q.toml:2:9"});
+}
+
+TEST(SceneReader, BoundaryMustReferenceDefinedSet) {
+    const std::string scene = "[time]\nduration = 1\n[sets]\nbottom = \"z < 1\"\ntop = \"z > 9\"\n"
+                              "[[boundary]]\nset = \"botom\"\nkind = \"fixed\"\n";
+    expectMentions(errorOf(scene), {"q.toml:7:7:", "key 'boundary[0].set'",
+                                    "a set defined in [sets] (bottom, top)", "got the string \"botom\""});
+    expectMentions(errorOf("[time]\nduration = 1\n[sets]\nb = \"all\"\n[[boundary]]\nset = \"b\"\nkind = "
+                           "\"fixed\"\nvelocity = [1, 0, 0]\n"),
+                   {"q.toml:8:12:", "key 'boundary[0].velocity'", "not used with kind = \"fixed\""});
+    expectMentions(errorOf("[time]\nduration = 1\n[sets]\nb = \"all\"\n[[boundary]]\nset = \"b\"\nkind = "
+                           "\"velocity\"\n"),
+                   {"q.toml:5:1:", "missing key 'boundary[0].velocity'"});
+    expectMentions(errorOf("[time]\nduration = 1\n[sets]\n2nd = \"all\"\n"),
+                   {"q.toml:4:1:", "key 'sets.2nd'", "[A-Za-z_][A-Za-z0-9_-]*"});
+}
+
+TEST(SceneReader, OverrideSetsValues) {
+    const Scene scene =
+        parseScene(kFull, "q.toml", {"sample.particles=2000", "scene.name=\"x\"", "sample.size=[1,2,3]"});
+    EXPECT_EQ(scene.sample.particles, 2000);
+    EXPECT_EQ(scene.name, "x");
+    EXPECT_DOUBLE_EQ(scene.sample.size.z(), 3000.0); // the file's units (mm) apply to overrides too
+    EXPECT_EQ(scene.sample.lattice, "sc");           // the rest of [sample] is kept
+}
+
+TEST(SceneReader, OverrideCreatesMissingTables) {
+    const Scene scene = parseScene("[scene]\nname = \"a\"\n", "q.toml",
+                                   {"time.duration=2", "output.every=7", "effects.list=[\"damping\"]",
+                                    "damping={kind=\"bond-viscous\", coefficient=0.4}"});
+    EXPECT_EQ(scene.time.duration, 2.0);
+    EXPECT_EQ(scene.output.every, 7);
+    EXPECT_EQ(scene.damping.kind, DampingKind::BondViscous);
+    EXPECT_EQ(scene.damping.coefficient, 0.4);
+}
+
+TEST(SceneReader, OverrideErrorsNameTheOverride) {
+    expectMentions(errorOf(kMinimal, {"sample.particles=abc"}),
+                   {"--set sample.particles=abc: ", "key 'sample.particles'", "expected a TOML value"});
+    expectMentions(errorOf(kMinimal, {"sample.particles=-1"}),
+                   {"--set sample.particles=-1: key 'sample.particles': expected an integer >= 2, got -1"});
+    expectMentions(errorOf(kMinimal, {"sample.partcles=5"}),
+                   {"--set sample.partcles=5: unknown key 'sample.partcles'"});
+    expectMentions(errorOf(kMinimal, {"sample.particles"}), {"--set sample.particles:", "dotted.key=value"});
+}
+
+TEST(SceneReader, SyntaxErrorReportsLine) {
+    expectMentions(errorOf("[time]\nduration = 1\n[sample]\nparticles = \n"),
+                   {"q.toml:4:", "TOML syntax error"});
+    expectMentions(errorOf("[time]\nduration = 1\nduration = 2\n"), {"q.toml:3:", "duration"});
+}
+
+TEST(SceneReader, DurationIsRequired) {
+    expectMentions(errorOf("[scene]\nname = \"a\"\n\n[time]\nsafety_ratio = 0.2\n"),
+                   {"q.toml:4:1:", "missing key 'time.duration' in [time]", "a number > 0 (in ns)"});
+    expectMentions(errorOf("[scene]\nname = \"a\"\n"),
+                   {"q.toml: missing key 'time.duration'", "no [time] table"});
+}
+
+TEST(SceneReader, DampingTableAndEffectMustAgree) {
+    expectMentions(errorOf("[time]\nduration = 1\n[damping]\nkind = \"cundall\"\ncoefficient = 0.1\n"),
+                   {"q.toml:3:1:", "[damping]", "effects.list does not contain \"damping\""});
+    expectMentions(
+        errorOf("[effects]\nlist = [\"elasticity\", \"damping\"]\n[time]\nduration = 1\n"),
+        {"q.toml:2:23:", "key 'effects.list'", "expected a [damping] table with kind and coefficient"});
+    expectMentions(errorOf("[effects]\nlist = [\"damping\"]\n[damping]\nkind = \"cundall\"\ncoefficient = 1\n"
+                           "[time]\nduration = 1\n"),
+                   {"q.toml:5:15:", "key 'damping.coefficient'",
+                    "a number in [0, 1) (for kind = \"cundall\")", "got 1"});
+    expectMentions(
+        errorOf("[effects]\nlist = [\"damping\"]\n[damping]\nkind = \"none\"\ncoefficient = 0.2\n"
+                "[time]\nduration = 1\n"),
+        {"q.toml:5:15:", "key 'damping.coefficient'", "expected 0 (for kind = \"none\"), got 0.2"});
+}
+
+TEST(SceneReader, ReadsFilesAndReportsMissingOnes) {
+    const std::filesystem::path dir = testing::freshTempDir("scene-reader");
+    const std::string path = (dir / "s.toml").string();
+    std::ofstream(path) << kMinimal << "[sample]\nparticles = 1\n";
+    try {
+        readScene(path);
+        ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+        expectMentions(e.what(), {path + ":4:13:", "key 'sample.particles'"});
+    }
+    EXPECT_EQ(readScene(path, {"sample.particles=8"}).source_path, path);
+    try {
+        readScene((dir / "absent.toml").string());
+        ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+        expectMentions(e.what(), {"cannot open scene file '" + (dir / "absent.toml").string() + "'"});
+    }
+    std::filesystem::remove_all(dir);
+}
+
+} // namespace
+} // namespace vitrum
