@@ -1,0 +1,46 @@
+// vitrum — DEM of sharp indentation of brittle glass. Exit codes: 0 success, 2 bad input, 1 runtime failure.
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "app/run_command.hpp"
+#include "solver/errors.hpp"
+
+int main(int argc, char** argv) {
+    CLI::App app{"vitrum: discrete element simulation of sharp indentation of brittle glass\n"
+                 "(cohesive Euler-Bernoulli beams, densification, virial-stress fracture, CNEM coupling)"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "vitrum 0.1.0");
+
+    vitrum::RunOptions run;
+    CLI::App* run_cmd = app.add_subcommand("run", "Run a scene file (TOML) and write its results");
+    run_cmd->add_option("scene", run.scene_path, "Scene file (TOML, units explicit)")->required();
+    run_cmd->add_option("--out", run.out_dir, "Output directory (default: out/<scene name>)");
+    run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
+        ->check(CLI::PositiveNumber);
+    run_cmd->add_option("--set", run.overrides, "Override a scene key, e.g. --set sample.particles=2000")
+        ->allow_extra_args(false);
+    run_cmd->add_flag("--quiet", run.quiet, "Print only warnings, errors and the final summary line");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
+    try {
+        if (run_cmd->parsed()) {
+            return vitrum::runScene(run);
+        }
+    } catch (const vitrum::InputError& e) {
+        std::cerr << "vitrum: error: " << e.what() << '\n';
+        return 2;
+    } catch (const vitrum::RuntimeFailure& e) {
+        std::cerr << "vitrum: run failed: " << e.what() << '\n';
+        return 1;
+    } catch (const std::exception& e) {
+        std::cerr << "vitrum: run failed: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
+}

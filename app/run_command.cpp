@@ -1,0 +1,343 @@
+#include "app/run_command.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include "io/fields.hpp"
+#include "io/progress.hpp"
+#include "io/scene_reader.hpp"
+#include "io/series_writer.hpp"
+#include "io/sha256.hpp"
+#include "io/units.hpp"
+#include "io/vtk_writer.hpp"
+#include "kernels/parallel.hpp"
+#include "kernels/timestep.hpp"
+#include "solver/errors.hpp"
+#include "solver/probes.hpp"
+#include "solver/step.hpp"
+
+namespace vitrum {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNewtonPerMilliNewton = 1e-3;
+constexpr const char* kVersion = "0.1.0";
+
+/// SHA-256 of the final state bytes: positions, orientations, velocities, angular velocities (in that order).
+std::string stateSha256(const Particles& p) {
+    Sha256 h;
+    for (const std::vector<double>* field : {&p.position, &p.orientation, &p.velocity, &p.angular_velocity}) {
+        h.update(field->data(), field->size() * sizeof(double));
+    }
+    return h.hexDigest();
+}
+
+std::string dampingName(const Scene& s) {
+    if (!s.hasEffect("damping") || s.damping.kind == DampingKind::None) {
+        return "none";
+    }
+    return s.damping.kind == DampingKind::CundallLocal ? "cundall" : "bond-viscous";
+}
+
+/// Writes one particle map (VTU) with the fields the scene asks for.
+class MapWriter {
+public:
+    MapWriter(const fs::path& out, const Scene& scene, const Model& model)
+        : out_(out), pvd_((out / "maps.pvd").string()), fields_(scene.output.fields) {
+        coordination_.resize(model.particles.size());
+        for (std::size_t i = 0; i < coordination_.size(); ++i) {
+            coordination_[i] = model.incidence.degree(i);
+        }
+    }
+
+    void write(const Model& model, long step, double time) {
+        const Particles& p = model.particles;
+        displacement_.resize(p.position.size());
+        for (std::size_t k = 0; k < p.position.size(); ++k) {
+            displacement_[k] = p.position[k] - p.initial_position[k];
+        }
+        std::vector<FieldView> views;
+        for (const std::string& f : fields_) {
+            if (f == "displacement") views.push_back({"displacement_um", 3, displacement_.data()});
+            if (f == "velocity") views.push_back({"velocity_km_per_s", 3, p.velocity.data()});
+            if (f == "force") views.push_back({"force_mN", 3, p.force.data()});
+            if (f == "angular_velocity") views.push_back({"angular_velocity_rad_per_ns", 3, p.angular_velocity.data()});
+            if (f == "torque") views.push_back({"torque_mN_um", 3, p.torque.data()});
+            if (f == "coordination") views.push_back({"coordination", 1, coordination_.data()});
+        }
+        char name[64];
+        std::snprintf(name, sizeof name, "maps/particles_%08ld.vtu", step);
+        writeParticlesVtu((out_ / name).string(), p.size(), p.position.data(), p.radius.data(), views);
+        pvd_.add(time, name);
+        pvd_.write();
+    }
+
+private:
+    fs::path out_;
+    PvdCollection pvd_;
+    std::vector<std::string> fields_;
+    std::vector<double> coordination_;
+    std::vector<double> displacement_;
+};
+
+/// Cross-section normal to `axis` and centre-to-centre gauge length of the sample (uniaxial measure).
+std::pair<double, double> uniaxialGeometry(const Model& model, int axis) {
+    const SampleParams& s = model.sample;
+    double area = 0.0;
+    if (s.shape == "box") {
+        area = s.size.prod() / s.size[axis];
+    } else if (s.shape == "cylinder" && axis == 2) {
+        area = M_PI * s.radius * s.radius;
+    } else {
+        throw InputError("[measure] kind = \"uniaxial\" needs a box sample, or a cylinder loaded along z");
+    }
+    double lo = 1e300;
+    double hi = -1e300;
+    for (std::size_t i = 0; i < model.particles.size(); ++i) {
+        lo = std::min(lo, model.particles.initial_position[3 * i + axis]);
+        hi = std::max(hi, model.particles.initial_position[3 * i + axis]);
+    }
+    return {area, hi - lo};
+}
+
+} // namespace
+
+int runScene(const RunOptions& options) {
+    using Clock = std::chrono::steady_clock;
+    const auto wall_start = Clock::now();
+    setThreadCount(options.threads);
+    KernelTimers::instance().reset();
+    std::ostream& log = std::cout;
+    const bool verbose = !options.quiet;
+
+    // 1. Scene → typed parameters (all validation happens here).
+    const Scene scene = readScene(options.scene_path, options.overrides);
+    const fs::path out = options.out_dir.empty() ? fs::path("out") / scene.name : fs::path(options.out_dir);
+    std::error_code ec;
+    fs::create_directories(out / "maps", ec);
+    if (ec) {
+        throw RuntimeFailure("cannot create output directory '" + out.string() + "': " + ec.message());
+    }
+    {
+        std::ofstream resolved(out / "resolved_scene.toml");
+        resolved << resolvedSceneToml(scene);
+        if (!resolved) {
+            throw RuntimeFailure("cannot write '" + (out / "resolved_scene.toml").string() + "'");
+        }
+    }
+
+    // 2. Model: sample → particles → bonds → sets → boundary conditions.
+    Model model = buildModel(scene, lengthFactor(scene.units.length));
+    const double min_radius = *std::min_element(model.particles.radius.begin(), model.particles.radius.end());
+
+    // 3. Step composed from the effects; time step from the critical estimate.
+    Step step = composeStep(scene, model);
+    const CriticalTimeStep critical =
+        criticalTimeStep(model.incidence.view(), model.bonds.view(), model.particles.view());
+    if (!(critical.dt > 0.0)) {
+        throw InputError(scene.source_path + ": the sample has no bonds; the time step cannot be estimated "
+                         "(check sample.bond_tolerance)");
+    }
+    const long steps = std::max(1L, static_cast<long>(std::ceil(scene.time.duration / (scene.time.safety_ratio * critical.dt))));
+    const double dt = scene.time.duration / static_cast<double>(steps);
+    const double mean_coordination = 2.0 * static_cast<double>(model.bonds.size()) / static_cast<double>(model.particles.size());
+
+    if (verbose) {
+        log << "vitrum " << kVersion << ": scene '" << scene.name << "' (" << scene.source_path << ")\n"
+            << "  sample     " << scene.sample.lattice << " lattice in a " << scene.sample.shape << ": "
+            << model.particles.size() << " particles, " << model.bonds.size() << " bonds (mean coordination "
+            << std::setprecision(4) << mean_coordination << "), R = " << min_radius << " um\n"
+            << "  material   E_mu = " << scene.material.beam_young << " GPa, nu_mu = " << scene.material.beam_poisson
+            << ", r_tilde = " << scene.material.radius_ratio << ", rho = " << scene.material.density * 1e3
+            << " kg/m^3\n"
+            << "  time step  dt = " << std::setprecision(6) << dt << " ns = " << dt / critical.dt
+            << " x dt_crit (" << critical.dt << " ns, Gershgorin bound); " << steps << " steps over "
+            << scene.time.duration << " ns\n"
+            << "  damping    " << dampingName(scene);
+        if (dampingName(scene) != "none") {
+            log << " (coefficient " << scene.damping.coefficient << ")";
+        }
+        log << "\n  effects    ";
+        for (std::size_t k = 0; k < scene.effects.size(); ++k) {
+            log << (k ? ", " : "") << scene.effects[k];
+        }
+        log << "\n  step       " << step.describe() << "\n  threads    " << threadCount() << "\n  output     "
+            << out.string() << "\n";
+    }
+
+    // 4. Probes, series and maps.
+    std::vector<std::size_t> probed;
+    auto probe = [&](const std::string& name) {
+        const std::size_t s = model.setIndex(name);
+        if (std::find(probed.begin(), probed.end(), s) == probed.end()) {
+            probed.push_back(s);
+        }
+    };
+    for (const std::string& name : scene.output.reactions) {
+        probe(name);
+    }
+    if (scene.measure.uniaxial) {
+        probe(scene.measure.loaded_set);
+    }
+    std::vector<std::string> columns = {"step", "time_ns", "kinetic_energy_nJ", "strain_energy_nJ", "max_speed_m_per_s"};
+    for (std::size_t s : probed) {
+        for (const char* c : {"x", "y", "z"}) {
+            columns.push_back("reaction_" + model.sets[s].name + "_" + c + "_N");
+        }
+        for (const char* c : {"x", "y", "z"}) {
+            columns.push_back("displacement_" + model.sets[s].name + "_" + c + "_um");
+        }
+    }
+    SeriesWriter series((out / "series.csv").string(), columns);
+    MapWriter maps(out, scene, model);
+    ProbeValues last;
+    auto record = [&](long n, double time) {
+        last = measureProbes(model, probed, time);
+        std::vector<double> row = {static_cast<double>(n), time, last.kinetic.translational + last.kinetic.rotational,
+                                   last.strain_energy, last.kinetic.max_speed * 1e3};
+        for (std::size_t k = 0; k < probed.size(); ++k) {
+            for (int c = 0; c < 3; ++c) row.push_back(last.reaction[k][c] * kNewtonPerMilliNewton);
+            for (int c = 0; c < 3; ++c) row.push_back(last.displacement[k][c]);
+        }
+        series.row(row);
+    };
+    auto probeText = [&]() {
+        std::ostringstream s;
+        s << std::setprecision(4) << "KE " << last.kinetic.translational + last.kinetic.rotational << " nJ  U "
+          << last.strain_energy << " nJ";
+        for (std::size_t k = 0; k < probed.size(); ++k) {
+            s << "  F_" << model.sets[probed[k]].name << " " << last.reaction[k].norm() * kNewtonPerMilliNewton << " N";
+        }
+        return s.str();
+    };
+
+    // 5. The time loop.
+    StepContext ctx{model, dt, 0.0};
+    step.computeForces(ctx);
+    record(0, 0.0);
+    const long map_every = scene.output.maps > 0 ? std::max(1L, steps / scene.output.maps) : 0;
+    if (map_every > 0) {
+        maps.write(model, 0, 0.0);
+    }
+    const long watchdog_every = std::min(scene.output.every, 50L);
+    ProgressReporter progress(log, verbose && ::isatty(STDOUT_FILENO), steps, verbose ? 10.0 : 1e30);
+    const auto loop_start = Clock::now();
+    for (long n = 1; n <= steps; ++n) {
+        ctx.time = static_cast<double>(n) * dt;
+        step.advance(ctx);
+        if (n % watchdog_every == 0 || n == steps) {
+            checkStability(kineticEnergy(model.particles.view()), dt, critical.dt, min_radius, n, ctx.time);
+        }
+        if (n % scene.output.every == 0 || n == steps) {
+            record(n, ctx.time);
+            if (verbose) {
+                progress.update(n, probeText());
+            }
+        }
+        if (map_every > 0 && (n % map_every == 0 || n == steps)) {
+            maps.write(model, n, ctx.time);
+        }
+    }
+    if (verbose) {
+        progress.finish();
+    }
+    series.flush();
+    const double loop_seconds = std::chrono::duration<double>(Clock::now() - loop_start).count();
+
+    // 6. Measurements and summary.
+    nlohmann::ordered_json measurements;
+    measurements["final_kinetic_energy_nJ"] = last.kinetic.translational + last.kinetic.rotational;
+    measurements["final_strain_energy_nJ"] = last.strain_energy;
+    for (std::size_t k = 0; k < probed.size(); ++k) {
+        const std::string& name = model.sets[probed[k]].name;
+        measurements["reaction_" + name + "_N"] = {last.reaction[k].x() * kNewtonPerMilliNewton,
+                                                   last.reaction[k].y() * kNewtonPerMilliNewton,
+                                                   last.reaction[k].z() * kNewtonPerMilliNewton};
+        measurements["displacement_" + name + "_um"] = {last.displacement[k].x(), last.displacement[k].y(),
+                                                        last.displacement[k].z()};
+    }
+    if (scene.measure.uniaxial) {
+        const int axis = scene.measure.axis;
+        const auto [area, gauge] = uniaxialGeometry(model, axis);
+        const std::size_t k = static_cast<std::size_t>(
+            std::find(probed.begin(), probed.end(), model.setIndex(scene.measure.loaded_set)) - probed.begin());
+        // The reaction on the loaded set is what the sample pushes back with: stress = −F/A along the axis.
+        const double stress = -last.reaction[k][axis] / area;
+        const double strain = last.displacement[k][axis] / gauge;
+        measurements["uniaxial_stress_GPa"] = stress;
+        measurements["uniaxial_strain"] = strain;
+        measurements["apparent_modulus_GPa"] = strain != 0.0 ? stress / strain : 0.0;
+        measurements["cross_section_um2"] = area;
+        measurements["gauge_length_um"] = gauge;
+    }
+
+    const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
+    nlohmann::ordered_json summary;
+    summary["vitrum_version"] = kVersion;
+    summary["scene"] = scene.name;
+    summary["scene_file"] = scene.source_path;
+    summary["effects"] = scene.effects;
+    summary["composed_step"] = step.describe();
+    summary["particles"] = model.particles.size();
+    summary["bonds"] = model.bonds.size();
+    summary["mean_coordination"] = mean_coordination;
+    summary["particle_radius_um"] = min_radius;
+    summary["steps"] = steps;
+    summary["dt_ns"] = dt;
+    summary["dt_critical_ns"] = critical.dt;
+    summary["safety_ratio"] = scene.time.safety_ratio;
+    summary["duration_ns"] = scene.time.duration;
+    summary["damping"] = {{"kind", dampingName(scene)},
+                          {"coefficient", dampingName(scene) == "none" ? 0.0 : scene.damping.coefficient}};
+    summary["threads"] = threadCount();
+    summary["wall_time_s"] = wall;
+    summary["loop_time_s"] = loop_seconds;
+    summary["bond_updates_per_s"] = static_cast<double>(model.bonds.size()) * static_cast<double>(steps) / loop_seconds;
+    nlohmann::ordered_json phases;
+    double phase_total = 0.0;
+    for (const Phase& ph : step.phases()) {
+        phase_total += ph.seconds;
+    }
+    for (const Phase& ph : step.phases()) {
+        phases[ph.label] = {{"seconds", ph.seconds}, {"share", phase_total > 0 ? ph.seconds / phase_total : 0.0}};
+    }
+    summary["phases"] = phases;
+    summary["measurements"] = measurements;
+    summary["state_sha256"] = stateSha256(model.particles);
+    {
+        std::ofstream f(out / "summary.json");
+        f << summary.dump(2) << '\n';
+        if (!f) {
+            throw RuntimeFailure("cannot write '" + (out / "summary.json").string() + "'");
+        }
+    }
+
+    if (verbose) {
+        log << "  phase time shares (" << std::setprecision(4) << loop_seconds << " s in the loop, "
+            << summary["bond_updates_per_s"].get<double>() << " bond-updates/s):\n";
+        for (const Phase& ph : step.phases()) {
+            log << "    " << std::left << std::setw(28) << ph.label << std::right << std::setw(9) << std::fixed
+                << std::setprecision(3) << ph.seconds << " s  " << std::setw(5) << std::setprecision(1)
+                << 100.0 * ph.seconds / std::max(phase_total, 1e-300) << " %\n"
+                << std::defaultfloat;
+        }
+        log << "  measurements " << measurements.dump() << "\n";
+    }
+    log << "vitrum: done in " << std::setprecision(3) << wall << " s; wrote " << (out / "summary.json").string()
+        << ", series.csv, maps.pvd (" << (map_every > 0 ? "VTU maps" : "no maps") << "), resolved_scene.toml\n";
+    return 0;
+}
+
+} // namespace vitrum

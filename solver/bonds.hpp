@@ -1,0 +1,55 @@
+// Owning SoA store of the cohesive beams and the particle → bond CSR incidence.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "kernels/views.hpp"
+
+namespace vitrum {
+
+struct MaterialParams;
+struct Particles;
+
+struct Bonds {
+    std::vector<std::int32_t> i, j;    ///< canonical order i < j, bonds sorted by (i, j)
+    std::vector<double> rest_length;   ///< l₀, µm
+    std::vector<double> section_radius;///< r̃ (R_i + R_j)/2, µm
+    std::vector<double> young;         ///< E_μ, GPa
+    std::vector<double> shear;         ///< G_μ, GPa
+    std::vector<double> axis_i;        ///< 3n, body-frame section normals (see BondView)
+    std::vector<double> axis_j;        ///< 3n
+    std::vector<double> twist_ref;     ///< 4n
+    std::vector<std::uint8_t> broken;  ///< n
+    std::vector<double> force;         ///< 3n, per-bond loads written by the beam kernel
+    std::vector<double> torque_i;      ///< 3n
+    std::vector<double> torque_j;      ///< 3n
+
+    std::size_t size() const { return i.size(); }
+
+    /// Appends a beam between particles a and b of `p` in its current configuration: rest length = current
+    /// centre distance (stress-free start), section radius r̃ (R_a + R_b)/2, references from the current
+    /// orientations (reference note dem-beam-model.md §2.3).
+    void add(const Particles& p, std::int32_t a, std::int32_t b, const MaterialParams& material);
+
+    BondView view();
+};
+
+struct Incidence {
+    std::vector<std::int32_t> offset; ///< n_particles + 1
+    std::vector<std::int32_t> entry;  ///< 2·bond + end
+
+    /// Builds the CSR incidence of `bonds` over `n_particles` particles (entries of a particle in bond order).
+    static Incidence build(std::size_t n_particles, const Bonds& bonds);
+
+    /// Number of bonds incident to particle p.
+    int degree(std::size_t p) const { return offset[p + 1] - offset[p]; }
+
+    IncidenceView view() const;
+};
+
+/// Bonds every pair whose centre distance is below (1 + tolerance)(R_a + R_b), found with a cell list.
+/// Deterministic: pairs come out sorted by (i, j).
+Bonds bondNeighbours(const Particles& particles, double tolerance, const MaterialParams& material);
+
+} // namespace vitrum

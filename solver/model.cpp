@@ -1,0 +1,96 @@
+#include "solver/model.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "solver/errors.hpp"
+#include "solver/sample.hpp"
+#include "solver/sets.hpp"
+
+namespace vitrum {
+
+Vec3 BoundaryCondition::displacementAt(double t) const {
+    if (ramp_time <= 0.0 || t >= ramp_time) {
+        return value;
+    }
+    return value * (t / ramp_time);
+}
+
+Vec3 BoundaryCondition::rateAt(double t) const {
+    if (ramp_time <= 0.0 || t >= ramp_time) {
+        return Vec3::Zero();
+    }
+    return value / ramp_time;
+}
+
+std::size_t Model::setIndex(const std::string& name) const {
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+        if (sets[k].name == name) {
+            return k;
+        }
+    }
+    throw std::out_of_range("no particle set named '" + name + "'");
+}
+
+Model buildModel(const Scene& scene, double length_factor) {
+    Model model;
+    model.sample = scene.sample;
+    const Sample sample = buildLatticeSample(scene.sample);
+    if (sample.centres.size() < 2) {
+        throw InputError(scene.source_path + ": [sample] gives " + std::to_string(sample.centres.size()) +
+                         " particle(s) inside the shape; expected at least 2 (raise sample.particles)");
+    }
+    model.spacing = sample.spacing;
+    model.particles = Particles::spheres(sample.centres, sample.radii, scene.material.density);
+    for (std::size_t i = 0; i < model.particles.size(); ++i) {
+        if (distanceToBoundary(scene.sample, sample.centres[i]) < 1.5 * sample.radii[i]) {
+            model.particles.flags[i] |= kSurface;
+        }
+    }
+    model.bonds = bondNeighbours(model.particles, scene.sample.bond_tolerance, scene.material);
+    model.incidence = Incidence::build(model.particles.size(), model.bonds);
+
+    for (const SetParams& s : scene.sets) {
+        std::vector<SelectorClause> clauses;
+        try {
+            clauses = parseSelector(s.where);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(scene.source_path + ": key 'sets." + s.name + "': " + e.what());
+        }
+        model.sets.push_back({s.name, selectParticles(clauses, model.particles, length_factor)});
+        if (model.sets.back().members.empty()) {
+            throw InputError(scene.source_path + ": key 'sets." + s.name + "': selector '" + s.where +
+                             "' matches no particle; expected at least one");
+        }
+    }
+    for (const BoundaryParams& b : scene.boundaries) {
+        BoundaryCondition bc;
+        bc.kind = b.kind;
+        bc.value = b.value;
+        bc.ramp_time = b.ramp_time;
+        try {
+            bc.set = model.setIndex(b.set);
+        } catch (const std::out_of_range& e) {
+            throw InputError(scene.source_path + ": [[boundary]] set: " + e.what());
+        }
+        model.boundaries.push_back(bc);
+    }
+    initialiseBoundaries(model);
+    return model;
+}
+
+void initialiseBoundaries(Model& model) {
+    Particles& p = model.particles;
+    for (const BoundaryCondition& bc : model.boundaries) {
+        const Vec3 v = bc.kind == BoundaryKind::Velocity ? bc.value : Vec3::Zero();
+        const Vec3 rate = bc.kind == BoundaryKind::Displacement ? bc.rateAt(0.0) : Vec3::Zero();
+        for (std::int32_t m : model.sets[bc.set].members) {
+            const auto i = static_cast<std::size_t>(m);
+            p.flags[i] |= kKinematic;
+            store3(p.velocity.data(), i, v + rate);
+            store3(p.angular_velocity.data(), i, Vec3::Zero());
+        }
+    }
+}
+
+} // namespace vitrum

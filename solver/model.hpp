@@ -1,0 +1,51 @@
+// The model: the stores a run works on, built from a scene. A plain aggregate of the particle and bond
+// stores, the named sets and the boundary conditions; behaviour lives in kernels and in the composed step.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "solver/bonds.hpp"
+#include "solver/particles.hpp"
+#include "solver/scene.hpp"
+
+namespace vitrum {
+
+struct NamedSet {
+    std::string name;
+    std::vector<std::int32_t> members; ///< ascending particle indices
+};
+
+struct BoundaryCondition {
+    BoundaryKind kind = BoundaryKind::Fixed;
+    std::size_t set = 0;        ///< index into Model::sets
+    Vec3 value = Vec3::Zero();  ///< velocity (km/s) or final displacement (µm)
+    double ramp_time = 0.0;     ///< ns
+
+    /// Displacement and its rate at time t of a Displacement condition (linear ramp, then held).
+    Vec3 displacementAt(double t) const;
+    Vec3 rateAt(double t) const;
+};
+
+struct Model {
+    Particles particles;
+    Bonds bonds;
+    Incidence incidence;
+    std::vector<NamedSet> sets;
+    std::vector<BoundaryCondition> boundaries;
+    SampleParams sample;      ///< geometry the sample was built for (µm)
+    double spacing = 0.0;     ///< lattice constant, µm
+
+    /// Index of the set called `name`; throws std::out_of_range if none.
+    std::size_t setIndex(const std::string& name) const;
+};
+
+/// Builds the sample, bonds, sets and boundary conditions of `scene` (already in internal units; set
+/// selectors carry numbers in the scene's length unit, converted with length_factor).
+Model buildModel(const Scene& scene, double length_factor);
+
+/// Flags kKinematic on the members of every boundary condition and sets their initial velocities (zero for
+/// fixed and displacement conditions, the prescribed one for velocity conditions) and angular velocities (0).
+void initialiseBoundaries(Model& model);
+
+} // namespace vitrum

@@ -1,0 +1,45 @@
+#include "solver/probes.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "kernels/bond_kernels.hpp"
+#include "kernels/boundary.hpp"
+
+namespace vitrum {
+
+ProbeValues measureProbes(Model& model, const std::vector<std::size_t>& probed_sets, double time) {
+    ProbeValues v;
+    v.time = time;
+    const ParticleView p = model.particles.view();
+    v.kinetic = kineticEnergy(p);
+    v.strain_energy = beamStrainEnergy(model.bonds.view(), p);
+    for (std::size_t s : probed_sets) {
+        const NamedSet& set = model.sets[s];
+        v.reaction.push_back(setForceSum(p, set.members.data(), set.members.size()));
+        v.displacement.push_back(
+            setMeanDisplacement(p, model.particles.initial_position.data(), set.members.data(), set.members.size()));
+    }
+    return v;
+}
+
+void checkStability(const KineticEnergy& kinetic, double dt, double dt_critical, double min_radius, long step,
+                    double time) {
+    const bool finite = kinetic.finite && std::isfinite(kinetic.max_speed);
+    if (finite && kinetic.max_speed * dt <= 0.1 * min_radius) {
+        return;
+    }
+    std::ostringstream msg;
+    msg << "numerical instability detected at step " << step << " (t = " << time << " ns): ";
+    if (!finite) {
+        msg << "non-finite positions or velocities";
+    } else {
+        msg << "a particle moves " << kinetic.max_speed * dt << " um in one step, more than 0.1 x the smallest "
+            << "radius (" << min_radius << " um)";
+    }
+    msg << ". The time step is " << dt << " ns = " << dt / dt_critical
+        << " x the critical estimate; lower time.safety_ratio (default 0.1) or check the boundary conditions.";
+    throw NumericalInstability(msg.str());
+}
+
+} // namespace vitrum

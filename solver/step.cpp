@@ -1,0 +1,93 @@
+#include "solver/step.hpp"
+
+#include <chrono>
+
+#include "kernels/bond_kernels.hpp"
+#include "kernels/boundary.hpp"
+#include "kernels/integrate.hpp"
+
+namespace vitrum {
+
+void Step::add(std::string label, bool computes_forces, std::function<void(StepContext&)> run) {
+    phases_.push_back(Phase{std::move(label), computes_forces, std::move(run), 0.0, 0});
+}
+
+namespace {
+void runTimed(Phase& phase, StepContext& ctx) {
+    const auto start = std::chrono::steady_clock::now();
+    phase.run(ctx);
+    phase.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++phase.calls;
+}
+} // namespace
+
+void Step::advance(StepContext& ctx) {
+    for (Phase& phase : phases_) {
+        runTimed(phase, ctx);
+    }
+}
+
+void Step::computeForces(StepContext& ctx) {
+    for (Phase& phase : phases_) {
+        if (phase.computes_forces) {
+            phase.run(ctx); // not timed: a set-up evaluation, not part of the step
+        }
+    }
+}
+
+std::string Step::describe() const {
+    std::string out;
+    for (const Phase& phase : phases_) {
+        out += (out.empty() ? "" : " -> ") + phase.label;
+    }
+    return out;
+}
+
+Step composeStep(const Scene& scene, Model& model) {
+    Step step;
+    step.add("integrate.kick_drift", false, [](StepContext& c) {
+        const ParticleView p = c.model.particles.view();
+        halfKick(p, c.dt);
+        drift(p, c.dt);
+    });
+
+    bool any_displacement = false;
+    for (const BoundaryCondition& bc : model.boundaries) {
+        any_displacement = any_displacement || bc.kind == BoundaryKind::Displacement;
+    }
+    if (any_displacement) {
+        step.add("bc.prescribe", false, [](StepContext& c) {
+            const ParticleView p = c.model.particles.view();
+            for (const BoundaryCondition& bc : c.model.boundaries) {
+                if (bc.kind == BoundaryKind::Displacement) {
+                    const NamedSet& s = c.model.sets[bc.set];
+                    prescribeDisplacement(p, c.model.particles.initial_position.data(), s.members.data(),
+                                          s.members.size(), bc.displacementAt(c.time), bc.rateAt(c.time));
+                }
+            }
+        });
+    }
+
+    const bool damping = scene.hasEffect("damping");
+    if (damping && scene.damping.kind == DampingKind::BondViscous) {
+        const BondViscousDamping viscous{scene.damping.coefficient};
+        step.add("bonds.beam_loads+viscous", true, [viscous](StepContext& c) {
+            computeBeamLoads(c.model.bonds.view(), c.model.particles.view(), viscous);
+        });
+    } else {
+        step.add("bonds.beam_loads", true,
+                 [](StepContext& c) { computeBeamLoads(c.model.bonds.view(), c.model.particles.view()); });
+    }
+    step.add("bonds.gather", true, [](StepContext& c) {
+        gatherBondLoads(c.model.incidence.view(), c.model.bonds.view(), c.model.particles.view());
+    });
+    if (damping && scene.damping.kind == DampingKind::CundallLocal) {
+        const double alpha = scene.damping.coefficient;
+        step.add("damping.cundall", true,
+                 [alpha](StepContext& c) { cundallLocalDamping(c.model.particles.view(), alpha); });
+    }
+    step.add("integrate.kick", false, [](StepContext& c) { halfKick(c.model.particles.view(), c.dt); });
+    return step;
+}
+
+} // namespace vitrum
