@@ -1,6 +1,6 @@
 // The typed, validated scene (STYLE.md rule 7). io/scene_reader fills it from TOML; every quantity here is
 // already converted to vitrum's internal units (µm, GPa, ns, mN, 10³ kg/m³; see kernels/views.hpp). The
-// resolved scene is written back next to the results (io/scene_reader: writeResolvedScene).
+// resolved scene is written back next to the results (io/scene_reader: resolvedSceneToml).
 #pragma once
 
 #include <cstdint>
