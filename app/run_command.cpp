@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -23,6 +24,7 @@
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
 #include "solver/errors.hpp"
+#include "solver/measure.hpp"
 #include "solver/probes.hpp"
 #include "solver/step.hpp"
 
@@ -91,26 +93,6 @@ private:
     std::vector<double> coordination_;
     std::vector<double> displacement_;
 };
-
-/// Cross-section normal to `axis` and centre-to-centre gauge length of the sample (uniaxial measure).
-std::pair<double, double> uniaxialGeometry(const Model& model, int axis) {
-    const SampleParams& s = model.sample;
-    double area = 0.0;
-    if (s.shape == "box") {
-        area = s.size.prod() / s.size[axis];
-    } else if (s.shape == "cylinder" && axis == 2) {
-        area = M_PI * s.radius * s.radius;
-    } else {
-        throw InputError("[measure] kind = \"uniaxial\" needs a box sample, or a cylinder loaded along z");
-    }
-    double lo = 1e300;
-    double hi = -1e300;
-    for (std::size_t i = 0; i < model.particles.size(); ++i) {
-        lo = std::min(lo, model.particles.initial_position[3 * i + axis]);
-        hi = std::max(hi, model.particles.initial_position[3 * i + axis]);
-    }
-    return {area, hi - lo};
-}
 
 } // namespace
 
@@ -200,6 +182,20 @@ int runScene(const RunOptions& options) {
             columns.push_back("displacement_" + model.sets[s].name + "_" + c + "_um");
         }
     }
+    std::optional<UniaxialGauge> gauge;
+    std::size_t loaded = 0;
+    if (scene.measure.uniaxial) {
+        gauge = uniaxialGauge(model, scene.measure.axis);
+        loaded = static_cast<std::size_t>(
+            std::find(probed.begin(), probed.end(), model.setIndex(scene.measure.loaded_set)) - probed.begin());
+        for (const char* c : {"uniaxial_stress_GPa", "uniaxial_strain", "lateral_strain"}) {
+            columns.push_back(c);
+        }
+    }
+    struct UniaxialSample {
+        double stress, strain, lateral;
+    };
+    std::vector<UniaxialSample> uniaxial;
     SeriesWriter series((out / "series.csv").string(), columns);
     MapWriter maps(out, scene, model);
     ProbeValues last;
@@ -210,6 +206,15 @@ int runScene(const RunOptions& options) {
         for (std::size_t k = 0; k < probed.size(); ++k) {
             for (int c = 0; c < 3; ++c) row.push_back(last.reaction[k][c] * kNewtonPerMilliNewton);
             for (int c = 0; c < 3; ++c) row.push_back(last.displacement[k][c]);
+        }
+        if (gauge) {
+            // The reaction on the loaded set is what the sample pushes back with: stress = −F/A along the axis.
+            const int axis = gauge->axis;
+            const UniaxialSample u{-last.reaction[loaded][axis] / gauge->area,
+                                   last.displacement[loaded][axis] / gauge->gauge,
+                                   lateralStrain(*gauge, model.particles)};
+            uniaxial.push_back(u);
+            row.insert(row.end(), {u.stress, u.strain, u.lateral});
         }
         series.row(row);
     };
@@ -268,19 +273,20 @@ int runScene(const RunOptions& options) {
         measurements["displacement_" + name + "_um"] = {last.displacement[k].x(), last.displacement[k].y(),
                                                         last.displacement[k].z()};
     }
-    if (scene.measure.uniaxial) {
-        const int axis = scene.measure.axis;
-        const auto [area, gauge] = uniaxialGeometry(model, axis);
-        const std::size_t k = static_cast<std::size_t>(
-            std::find(probed.begin(), probed.end(), model.setIndex(scene.measure.loaded_set)) - probed.begin());
-        // The reaction on the loaded set is what the sample pushes back with: stress = −F/A along the axis.
-        const double stress = -last.reaction[k][axis] / area;
-        const double strain = last.displacement[k][axis] / gauge;
-        measurements["uniaxial_stress_GPa"] = stress;
-        measurements["uniaxial_strain"] = strain;
-        measurements["apparent_modulus_GPa"] = strain != 0.0 ? stress / strain : 0.0;
-        measurements["cross_section_um2"] = area;
-        measurements["gauge_length_um"] = gauge;
+    measurements["kinetic_to_strain_energy"] =
+        last.strain_energy > 0.0 ? (last.kinetic.translational + last.kinetic.rotational) / last.strain_energy : 0.0;
+    if (gauge) {
+        // E and ν at the final state, which the hold phase brings to static equilibrium (the material is
+        // linear elastic, so the secant is the slope); kinetic_to_strain_energy says how static it is.
+        const UniaxialSample& end = uniaxial.back();
+        measurements["uniaxial_stress_GPa"] = end.stress;
+        measurements["uniaxial_strain"] = end.strain;
+        measurements["lateral_strain"] = end.lateral;
+        measurements["apparent_modulus_GPa"] = end.strain != 0.0 ? end.stress / end.strain : 0.0;
+        measurements["poisson_ratio"] = end.strain != 0.0 ? -end.lateral / end.strain : 0.0;
+        measurements["lateral_gauge_particles"] = gauge->lateral.size();
+        measurements["cross_section_um2"] = gauge->area;
+        measurements["gauge_length_um"] = gauge->gauge;
     }
 
     const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
