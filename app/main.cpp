@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
     CLI::App app{"vitrum: discrete element simulation of sharp indentation of brittle glass\n"
                  "(cohesive Euler-Bernoulli beams, densification, virial-stress fracture, CNEM coupling)"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", "vitrum 0.1.0");
+    app.set_version_flag("--version", "vitrum " VITRUM_VERSION);
 
     vitrum::RunOptions run;
     CLI::App* run_cmd = app.add_subcommand("run", "Run a scene file (TOML) and write its results");
@@ -21,6 +21,13 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--set", run.overrides, "Override a scene key, e.g. --set sample.particles=2000")
         ->allow_extra_args(false);
     run_cmd->add_flag("--quiet", run.quiet, "Print only warnings, errors and the final summary line");
+    run_cmd->add_option("--restart", run.restart,
+                        "Continue from a checkpoint (state.h5) written by the same scene; the result is "
+                        "bit-identical to the uninterrupted run");
+    run_cmd->add_option("--stop-after", run.stop_after,
+                        "Save a checkpoint (state.h5) and stop after this many steps, e.g. to chain jobs under a "
+                        "batch time limit; continue with --restart")
+        ->check(CLI::PositiveNumber);
 
     try {
         app.parse(argc, argv);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,8 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include "io/atomic_file.hpp"
+#include "io/checkpoint.hpp"
 #include "io/fields.hpp"
 #include "io/progress.hpp"
 #include "io/scene_reader.hpp"
@@ -35,7 +38,11 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kNewtonPerMilliNewton = 1e-3;
-constexpr const char* kVersion = "0.1.0";
+constexpr const char* kVersion = VITRUM_VERSION;
+
+/// Set by SIGINT/SIGTERM; the loop checks it each step, writes a checkpoint and stops.
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void onStopSignal(int signal) { g_stop_signal = signal; }
 
 /// SHA-256 of the final state bytes: positions, orientations, velocities, angular velocities (in that order).
 std::string stateSha256(const Particles& p) {
@@ -112,13 +119,11 @@ int runScene(const RunOptions& options) {
     if (ec) {
         throw RuntimeFailure("cannot create output directory '" + out.string() + "': " + ec.message());
     }
-    {
-        std::ofstream resolved(out / "resolved_scene.toml");
-        resolved << resolvedSceneToml(scene);
-        if (!resolved) {
-            throw RuntimeFailure("cannot write '" + (out / "resolved_scene.toml").string() + "'");
-        }
-    }
+    const std::string resolved_text = resolvedSceneToml(scene);
+    Sha256 scene_hash;
+    scene_hash.update(resolved_text);
+    const std::string scene_sha256 = scene_hash.hexDigest();
+    writeFileAtomically((out / "resolved_scene.toml").string(), resolved_text);
 
     // 2. Model: sample → particles → bonds → sets → boundary conditions.
     Model model = buildModel(scene, lengthFactor(scene.units.length));
@@ -228,18 +233,57 @@ int runScene(const RunOptions& options) {
         return s.str();
     };
 
-    // 5. The time loop.
+    // 5. The time loop (from a checkpoint when restarting: its forces are those the next kick needs).
     StepContext ctx{model, dt, 0.0};
-    step.computeForces(ctx);
-    record(0, 0.0);
+    long first = 1;
+    if (!options.restart.empty()) {
+        const CheckpointMeta meta = readCheckpoint(options.restart, model.particles, model.bonds);
+        if (meta.scene_sha256 != scene_sha256) {
+            throw InputError(options.restart + ": checkpoint of another scene (its resolved scene hash " +
+                             meta.scene_sha256.substr(0, 12) + "... differs from " + scene_sha256.substr(0, 12) +
+                             "... of " + scene.source_path + "); restart with the scene and --set options it was "
+                             "written with");
+        }
+        if (meta.dt != dt || meta.step > steps) {
+            throw InputError(options.restart + ": checkpoint at step " + std::to_string(meta.step) +
+                             " with dt = " + std::to_string(meta.dt) + " ns does not fit this run (" +
+                             std::to_string(steps) + " steps of " + std::to_string(dt) + " ns)");
+        }
+        model.incidence = Incidence::build(model.particles.size(), model.bonds);
+        first = static_cast<long>(meta.step) + 1;
+        ctx.time = meta.time;
+        if (verbose) {
+            log << "  restart    from " << options.restart << " at step " << meta.step << " (t = " << meta.time
+                << " ns)\n";
+        }
+    } else {
+        step.computeForces(ctx);
+    }
+    record(first - 1, ctx.time);
     const long map_every = scene.output.maps > 0 ? std::max(1L, steps / scene.output.maps) : 0;
-    if (map_every > 0) {
+    if (map_every > 0 && first == 1) {
         maps.write(model, 0, 0.0);
     }
+    const long checkpoint_every = scene.output.checkpoints > 0 ? std::max(1L, steps / scene.output.checkpoints) : 0;
+    const std::string checkpoint_path = (out / "state.h5").string();
+    auto checkpoint = [&](long n) {
+        writeCheckpoint(checkpoint_path, model.particles, model.bonds,
+                        CheckpointMeta{n, ctx.time, dt, scene.name, scene_sha256, kVersion});
+    };
     const long watchdog_every = std::min(scene.output.every, 50L);
     ProgressReporter progress(log, verbose && ::isatty(STDOUT_FILENO), steps, verbose ? 10.0 : 1e30);
+    g_stop_signal = 0;
+    auto previous_int = std::signal(SIGINT, onStopSignal);
+    auto previous_term = std::signal(SIGTERM, onStopSignal);
+    struct RestoreSignals {
+        decltype(previous_int) on_int, on_term;
+        ~RestoreSignals() {
+            std::signal(SIGINT, on_int);
+            std::signal(SIGTERM, on_term);
+        }
+    } restore_signals{previous_int, previous_term};
     const auto loop_start = Clock::now();
-    for (long n = 1; n <= steps; ++n) {
+    for (long n = first; n <= steps; ++n) {
         ctx.time = static_cast<double>(n) * dt;
         step.advance(ctx);
         if (n % watchdog_every == 0 || n == steps) {
@@ -254,7 +298,26 @@ int runScene(const RunOptions& options) {
         if (map_every > 0 && (n % map_every == 0 || n == steps)) {
             maps.write(model, n, ctx.time);
         }
+        if (checkpoint_every > 0 && n % checkpoint_every == 0 && n < steps) {
+            checkpoint(n);
+        }
+        if (options.stop_after > 0 && n - first + 1 == options.stop_after && n < steps) {
+            checkpoint(n);
+            series.flush();
+            log << "vitrum: stopped after " << options.stop_after << " steps as asked (step " << n << " of "
+                << steps << ", t = " << ctx.time << " ns); state saved to " << checkpoint_path
+                << ": continue with --restart " << checkpoint_path << "\n";
+            return 0;
+        }
+        if (g_stop_signal != 0) {
+            checkpoint(n);
+            series.flush();
+            throw RuntimeFailure("interrupted by signal " + std::to_string(g_stop_signal) + " at step " +
+                                 std::to_string(n) + " (t = " + std::to_string(ctx.time) + " ns); state saved to " +
+                                 checkpoint_path + ": continue with --restart " + checkpoint_path);
+        }
     }
+    checkpoint(steps);
     if (verbose) {
         progress.finish();
     }
@@ -321,14 +384,9 @@ int runScene(const RunOptions& options) {
     }
     summary["phases"] = phases;
     summary["measurements"] = measurements;
+    summary["restarted_from"] = options.restart.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(options.restart);
     summary["state_sha256"] = stateSha256(model.particles);
-    {
-        std::ofstream f(out / "summary.json");
-        f << summary.dump(2) << '\n';
-        if (!f) {
-            throw RuntimeFailure("cannot write '" + (out / "summary.json").string() + "'");
-        }
-    }
+    writeFileAtomically((out / "summary.json").string(), summary.dump(2) + "\n");
 
     if (verbose) {
         log << "  phase time shares (" << std::setprecision(4) << loop_seconds << " s in the loop, "
@@ -342,7 +400,7 @@ int runScene(const RunOptions& options) {
         log << "  measurements " << measurements.dump() << "\n";
     }
     log << "vitrum: done in " << std::setprecision(3) << wall << " s; wrote " << (out / "summary.json").string()
-        << ", series.csv, maps.pvd (" << (map_every > 0 ? "VTU maps" : "no maps") << "), resolved_scene.toml\n";
+        << ", series.csv, maps.pvd (" << (map_every > 0 ? "VTU maps" : "no maps") << "), state.h5, resolved_scene.toml\n";
     return 0;
 }
 

@@ -13,6 +13,8 @@ struct RunOptions {
     int threads = 0;                   ///< 0: OMP_NUM_THREADS / all cores
     std::vector<std::string> overrides;///< --set key=value
     bool quiet = false;
+    std::string restart;               ///< checkpoint (state.h5) to continue from
+    long stop_after = 0;               ///< > 0: save a checkpoint and stop after this many steps of this invocation
 };
 
 /// Runs a scene; returns the process exit code (0). Throws InputError / RuntimeFailure.

@@ -713,10 +713,11 @@ void SceneParser::readMeasure(const TableReader& top, Scene& scene) const {
 
 void SceneParser::readOutput(const TableReader& top, Scene& scene) const {
     const TableReader output = top.subtable("output");
-    output.allowOnly({"every", "maps", "fields", "reactions"});
+    output.allowOnly({"every", "maps", "checkpoints", "fields", "reactions"});
     OutputParams& o = scene.output;
     o.every = output.integer("every", 1).value_or(o.every);
     o.maps = output.integer("maps", 0).value_or(o.maps);
+    o.checkpoints = output.integer("checkpoints", 0).value_or(o.checkpoints);
     if (auto fields = output.strings("fields")) {
         o.fields.clear();
         for (const StringItem& item : *fields) {
@@ -850,7 +851,7 @@ std::string resolvedSceneToml(const Scene& scene) {
             << "\naxis = \"" << static_cast<char>('x' + scene.measure.axis) << "\"\n\n";
     }
     const OutputParams& o = scene.output;
-    out << "[output]\nevery = " << o.every << "\nmaps = " << o.maps << "\nfields = " << tomlStrings(o.fields)
+    out << "[output]\nevery = " << o.every << "\nmaps = " << o.maps << "\ncheckpoints = " << o.checkpoints << "\nfields = " << tomlStrings(o.fields)
         << "\nreactions = " << tomlStrings(o.reactions) << "\n";
     return out.str();
 }

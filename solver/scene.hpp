@@ -80,6 +80,7 @@ struct MeasureParams {
 struct OutputParams {
     long every = 100;                 ///< steps between series.csv rows
     long maps = 10;                   ///< number of VTU snapshots over the run (plus the initial one); 0 = none
+    long checkpoints = 0;             ///< periodic HDF5 checkpoints (state.h5) over the run; the final state is always saved
     std::vector<std::string> fields = {"displacement", "velocity", "force", "coordination"};
     std::vector<std::string> reactions; ///< sets whose total bond force is recorded
 };

@@ -98,3 +98,58 @@ TEST(Cli, SafetyRatioAboveOneIsRejectedAsBadInput) {
 
 } // namespace
 } // namespace vitrum
+
+namespace vitrum {
+namespace {
+
+const std::string kSmall = " --quiet --set sample.particles=500 --set time.duration=3.0";
+
+TEST(Restart, StopAndRestartGivesTheUninterruptedStateHash) {
+    // Checkpoint/restart (HDF5): stopping after 700 of 857 steps and continuing from state.h5 must give the
+    // bit-identical final state of the uninterrupted run.
+    const fs::path full = freshTempDir("restart-full");
+    const fs::path parts = freshTempDir("restart-parts");
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + full.string() + kSmall, full / "log.txt"), 0);
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + parts.string() + kSmall + " --stop-after 700",
+                        parts / "log1.txt"), 0) << readText(parts / "log1.txt");
+    EXPECT_FALSE(fs::exists(parts / "summary.json"));
+    ASSERT_TRUE(fs::exists(parts / "state.h5"));
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + parts.string() + kSmall + " --restart " +
+                            (parts / "state.h5").string(), parts / "log2.txt"), 0)
+        << readText(parts / "log2.txt");
+    EXPECT_EQ(readSummary(full)["state_sha256"], readSummary(parts)["state_sha256"]);
+}
+
+TEST(Restart, RefusesACheckpointOfAnotherScene) {
+    const fs::path dir = freshTempDir("restart-other");
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + kSmall + " --stop-after 10", dir / "a.txt"), 0);
+    EXPECT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + kSmall + " --set scene.seed=7 --restart " +
+                            (dir / "state.h5").string(), dir / "b.txt"), 2);
+    EXPECT_NE(readText(dir / "b.txt").find("checkpoint of another scene"), std::string::npos) << readText(dir / "b.txt");
+    std::ofstream(dir / "junk.h5") << "not a checkpoint";
+    EXPECT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + kSmall + " --restart " +
+                            (dir / "junk.h5").string(), dir / "c.txt"), 2);
+    EXPECT_NE(readText(dir / "c.txt").find("junk.h5"), std::string::npos) << readText(dir / "c.txt");
+}
+
+TEST(Restart, SigtermSavesACheckpointThatRestartsToTheSameState) {
+    // SIGTERM mid-run: exit code 1, a message naming the checkpoint, and a state.h5 from which the run
+    // completes to the same final state as an uninterrupted run.
+    const std::string longer = " --quiet --set sample.particles=500 --set time.duration=40.0";
+    const fs::path full = freshTempDir("sigterm-full");
+    const fs::path cut = freshTempDir("sigterm-cut");
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + full.string() + longer, full / "log.txt"), 0);
+    const std::string cmd = "timeout --preserve-status -s TERM 1 " + std::string(VITRUM_BINARY) + " run " + kQuickstart + " --out " +
+                            cut.string() + longer + " > " + (cut / "log1.txt").string() + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    ASSERT_EQ(WEXITSTATUS(status), 1) << readText(cut / "log1.txt"); // the run takes well over 1 s
+    EXPECT_NE(readText(cut / "log1.txt").find("--restart"), std::string::npos) << readText(cut / "log1.txt");
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + cut.string() + longer + " --restart " +
+                            (cut / "state.h5").string(), cut / "log2.txt"), 0)
+        << readText(cut / "log2.txt");
+    EXPECT_EQ(readSummary(full)["state_sha256"], readSummary(cut)["state_sha256"]);
+}
+
+} // namespace
+} // namespace vitrum

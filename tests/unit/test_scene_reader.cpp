@@ -80,6 +80,7 @@ axis = "y"
 [output]
 every = 50
 maps = 0
+checkpoints = 3
 fields = ["displacement", "radius"]
 reactions = ["top", "bottom"]
 )";
@@ -148,6 +149,7 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.measure.axis, b.measure.axis);
     EXPECT_EQ(a.output.every, b.output.every);
     EXPECT_EQ(a.output.maps, b.output.maps);
+    EXPECT_EQ(a.output.checkpoints, b.output.checkpoints);
     EXPECT_EQ(a.output.fields, b.output.fields);
     EXPECT_EQ(a.output.reactions, b.output.reactions);
     EXPECT_EQ(a.source_path, b.source_path);
