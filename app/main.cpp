@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "app/calibrate_command.hpp"
 #include "app/run_command.hpp"
 #include "solver/errors.hpp"
 
@@ -29,6 +30,27 @@ int main(int argc, char** argv) {
                         "batch time limit; continue with --restart")
         ->check(CLI::PositiveNumber);
 
+    vitrum::CalibrateOptions calibrate;
+    CLI::App* calibrate_cmd = app.add_subcommand("calibrate", "Micro-macro calibration of the beam network");
+    calibrate_cmd->require_subcommand(1);
+    CLI::App* elastic_cmd = calibrate_cmd->add_subcommand(
+        "elastic", "Tensile tests over radius ratios, beam moduli and seeds; fits of the paper's eqs (5)-(6); "
+                   "micro-parameters for the target (E, nu); writes a calibration file");
+    elastic_cmd->add_option("--scene", calibrate.scene, "Tensile-test scene (uniaxial measure, random packing)")
+        ->capture_default_str();
+    elastic_cmd->add_option("--radius-ratios", calibrate.radius_ratios, "Beam radius ratios r~ to sweep")
+        ->delimiter(',')->capture_default_str();
+    elastic_cmd->add_option("--beam-young", calibrate.beam_youngs, "Beam Young's moduli E_mu to sweep (GPa)")
+        ->delimiter(',')->capture_default_str();
+    elastic_cmd->add_option("--seeds", calibrate.seeds, "Packing seeds")->delimiter(',')->capture_default_str();
+    elastic_cmd->add_option("--target-young", calibrate.target_young, "Target E (GPa)")->capture_default_str();
+    elastic_cmd->add_option("--target-poisson", calibrate.target_poisson, "Target nu")->capture_default_str();
+    elastic_cmd->add_option("--out", calibrate.out_dir, "Directory for the tensile runs and packings")
+        ->capture_default_str();
+    elastic_cmd->add_option("--output", calibrate.output, "Calibration file to write (TOML)")->capture_default_str();
+    elastic_cmd->add_option("--set", calibrate.overrides, "Override a key of the tensile scene for every test");
+    elastic_cmd->add_option("--threads", calibrate.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -38,6 +60,12 @@ int main(int argc, char** argv) {
     try {
         if (run_cmd->parsed()) {
             return vitrum::runScene(run);
+        }
+        if (elastic_cmd->parsed()) {
+            for (int k = 0; k < argc; ++k) {
+                calibrate.command_line += (k ? " " : "") + std::string(argv[k]);
+            }
+            return vitrum::calibrateElastic(calibrate);
         }
     } catch (const vitrum::InputError& e) {
         std::cerr << "vitrum: error: " << e.what() << '\n';

@@ -19,6 +19,7 @@
 #include "io/checkpoint.hpp"
 #include "io/fields.hpp"
 #include "io/progress.hpp"
+#include "io/sample_cache.hpp"
 #include "io/scene_reader.hpp"
 #include "io/series_writer.hpp"
 #include "io/sha256.hpp"
@@ -126,8 +127,13 @@ int runScene(const RunOptions& options) {
     writeFileAtomically((out / "resolved_scene.toml").string(), resolved_text);
 
     // 2. Model: sample → particles → bonds → sets → boundary conditions.
-    Model model = buildModel(scene, lengthFactor(scene.units.length));
+    const SampleSource source = loadOrBuildSample(scene);
+    Model model = buildModel(scene, lengthFactor(scene.units.length), source.sample);
     const double min_radius = *std::min_element(model.particles.radius.begin(), model.particles.radius.end());
+    double mean_radius = 0.0;
+    for (double r : model.particles.radius) {
+        mean_radius += r / static_cast<double>(model.particles.size());
+    }
 
     // 3. Step composed from the effects; time step from the critical estimate.
     Step step = composeStep(scene, model);
@@ -143,9 +149,10 @@ int runScene(const RunOptions& options) {
 
     if (verbose) {
         log << "vitrum " << kVersion << ": scene '" << scene.name << "' (" << scene.source_path << ")\n"
-            << "  sample     " << scene.sample.lattice << " lattice in a " << scene.sample.shape << ": "
+            << "  sample     " << (scene.sample.lattice == "random" ? "dense random packing" : scene.sample.lattice + " lattice")
+            << " in a " << scene.sample.shape << " (" << source.origin << "): "
             << model.particles.size() << " particles, " << model.bonds.size() << " bonds (mean coordination "
-            << std::setprecision(4) << mean_coordination << "), R = " << min_radius << " um\n"
+            << std::setprecision(4) << mean_coordination << "), mean R = " << mean_radius << " um\n"
             << "  material   E_mu = " << scene.material.beam_young << " GPa, nu_mu = " << scene.material.beam_poisson
             << ", r_tilde = " << scene.material.radius_ratio << ", rho = " << scene.material.density * 1e3
             << " kg/m^3\n"
@@ -362,7 +369,8 @@ int runScene(const RunOptions& options) {
     summary["particles"] = model.particles.size();
     summary["bonds"] = model.bonds.size();
     summary["mean_coordination"] = mean_coordination;
-    summary["particle_radius_um"] = min_radius;
+    summary["mean_radius_um"] = mean_radius;
+    summary["min_radius_um"] = min_radius;
     summary["steps"] = steps;
     summary["dt_ns"] = dt;
     summary["dt_critical_ns"] = critical.dt;

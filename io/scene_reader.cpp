@@ -500,9 +500,10 @@ void SceneParser::readEffects(const TableReader& top, Scene& scene) {
 
 void SceneParser::readSample(const TableReader& top, Scene& scene) const {
     const TableReader sample = top.subtable("sample");
-    sample.allowOnly({"lattice", "shape", "size", "radius", "height", "particles", "bond_tolerance"});
+    sample.allowOnly({"lattice", "shape", "size", "radius", "height", "particles", "bond_tolerance",
+                      "radius_dispersion", "packing_fraction", "coordination", "file"});
     SampleParams& p = scene.sample;
-    p.lattice = sample.choice("lattice", {"sc", "fcc"}).value_or(p.lattice);
+    p.lattice = sample.choice("lattice", {"sc", "fcc", "random"}).value_or(p.lattice);
     p.shape = sample.choice("shape", {"box", "cylinder", "sphere", "hemisphere"}).value_or(p.shape);
     if (auto size = sample.vector3("size", kPositive, scene.units.length)) {
         for (int i = 0; i < 3; ++i) {
@@ -517,6 +518,11 @@ void SceneParser::readSample(const TableReader& top, Scene& scene) const {
     }
     p.particles = sample.integer("particles", 2).value_or(p.particles);
     p.bond_tolerance = sample.number("bond_tolerance", Range{0.0, 0.5}).value_or(p.bond_tolerance);
+    p.radius_dispersion = sample.number("radius_dispersion", Range{0.0, 0.9}).value_or(p.radius_dispersion);
+    // Random close packing of spheres is ≈ 0.64; 0.70 is far above what any packer reaches without order.
+    p.packing_fraction = sample.number("packing_fraction", Range{0.3, 0.70}).value_or(p.packing_fraction);
+    p.coordination = sample.number("coordination", Range{3.0, 12.0}).value_or(p.coordination);
+    p.file = sample.string("file").value_or(p.file);
 }
 
 void SceneParser::readMaterial(const TableReader& top, Scene& scene) const {
@@ -805,7 +811,14 @@ std::string resolvedSceneToml(const Scene& scene) {
         << "\nsize = " << fileVec(s.size, length) << " # " << u.length
         << "\nradius = " << fileFloat(s.radius, length) << " # " << u.length
         << "\nheight = " << fileFloat(s.height, length) << " # " << u.length
-        << "\nparticles = " << s.particles << "\nbond_tolerance = " << tomlFloat(s.bond_tolerance) << "\n\n";
+        << "\nparticles = " << s.particles << "\nbond_tolerance = " << tomlFloat(s.bond_tolerance)
+        << "\nradius_dispersion = " << tomlFloat(s.radius_dispersion)
+        << "\npacking_fraction = " << tomlFloat(s.packing_fraction)
+        << "\ncoordination = " << tomlFloat(s.coordination);
+    if (!s.file.empty()) {
+        out << "\nfile = " << tomlString(s.file);
+    }
+    out << "\n\n";
 
     const MaterialParams& m = scene.material;
     out << "[material]\ndensity = " << fileFloat(m.density, 1e-3) << " # kg/m^3"

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "solver/errors.hpp"
+#include "solver/packing.hpp"
 #include "solver/sample.hpp"
 #include "solver/sets.hpp"
 
@@ -32,10 +33,37 @@ std::size_t Model::setIndex(const std::string& name) const {
     throw std::out_of_range("no particle set named '" + name + "'");
 }
 
+BondedSample buildSample(const Scene& scene) {
+    BondedSample out;
+    if (scene.sample.lattice == "random") {
+        PackingParams params = packingParamsFor(scene.sample, scene.seed);
+        Packing packing;
+        try {
+            packing = packRandom(params);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(scene.source_path + ": [sample]: " + e.what());
+        }
+        out.sample = std::move(packing.sample);
+        out.pairs = std::move(packing.bond_pairs);
+        return out;
+    }
+    out.sample = buildLatticeSample(scene.sample);
+    const Particles probe = Particles::spheres(out.sample.centres, out.sample.radii, 1.0);
+    const Bonds bonds = bondNeighbours(probe, scene.sample.bond_tolerance, scene.material);
+    for (std::size_t k = 0; k < bonds.size(); ++k) {
+        out.pairs.emplace_back(bonds.i[k], bonds.j[k]);
+    }
+    return out;
+}
+
 Model buildModel(const Scene& scene, double length_factor) {
+    return buildModel(scene, length_factor, buildSample(scene));
+}
+
+Model buildModel(const Scene& scene, double length_factor, const BondedSample& bonded) {
     Model model;
     model.sample = scene.sample;
-    const Sample sample = buildLatticeSample(scene.sample);
+    const Sample& sample = bonded.sample;
     if (sample.centres.size() < 2) {
         throw InputError(scene.source_path + ": [sample] gives " + std::to_string(sample.centres.size()) +
                          " particle(s) inside the shape; expected at least 2 (raise sample.particles)");
@@ -47,7 +75,9 @@ Model buildModel(const Scene& scene, double length_factor) {
             model.particles.flags[i] |= kSurface;
         }
     }
-    model.bonds = bondNeighbours(model.particles, scene.sample.bond_tolerance, scene.material);
+    for (const auto& [a, b] : bonded.pairs) {
+        model.bonds.add(model.particles, a, b, scene.material);
+    }
     model.incidence = Incidence::build(model.particles.size(), model.bonds);
 
     for (const SetParams& s : scene.sets) {

@@ -7,6 +7,7 @@
 
 #include "solver/bonds.hpp"
 #include "solver/particles.hpp"
+#include "solver/sample.hpp"
 #include "solver/scene.hpp"
 
 namespace vitrum {
@@ -40,8 +41,21 @@ struct Model {
     std::size_t setIndex(const std::string& name) const;
 };
 
-/// Builds the sample, bonds, sets and boundary conditions of `scene` (already in internal units; set
-/// selectors carry numbers in the scene's length unit, converted with length_factor).
+/// Particle centres and radii with the pairs to bond (i < j, sorted): the geometric part of a model.
+struct BondedSample {
+    Sample sample;
+    std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
+};
+
+/// The scene's sample: a lattice bonded within bond_tolerance, or a fresh dense random packing
+/// (solver/packing.hpp; the io layer adds the HDF5 cache of `sample.file`).
+BondedSample buildSample(const Scene& scene);
+
+/// Builds particles, bonds, sets and boundary conditions of `scene` on `sample` (quantities in internal
+/// units; set selectors carry numbers in the scene's length unit, converted with length_factor).
+Model buildModel(const Scene& scene, double length_factor, const BondedSample& sample);
+
+/// buildModel on buildSample(scene).
 Model buildModel(const Scene& scene, double length_factor);
 
 /// Flags kKinematic on the members of every boundary condition and sets their initial velocities (zero for

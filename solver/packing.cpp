@@ -748,6 +748,9 @@ PackingParams packingParamsFor(const SampleParams& sample, std::uint64_t seed) {
     p.radius = sample.radius;
     p.height = sample.height;
     p.particles = sample.particles;
+    p.radius_dispersion = sample.radius_dispersion;
+    p.target_packing_fraction = sample.packing_fraction;
+    p.target_coordination = sample.coordination;
     p.seed = seed;
     return p;
 }

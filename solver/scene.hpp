@@ -20,15 +20,20 @@ struct UnitSystem {
     std::string time = "ns";   ///< s | ms | us | ns | ps
 };
 
-/// Regular lattice samples for now (the dense random packer comes with the packing issue).
+/// The sample: a regular lattice (sc, fcc; bonds to neighbours within bond_tolerance) or a dense random
+/// packing (random; solver/packing.hpp: bonds chosen to reach the target coordination).
 struct SampleParams {
-    std::string lattice = "fcc";   ///< sc | fcc
+    std::string lattice = "fcc";   ///< sc | fcc | random
     std::string shape = "box";     ///< box | cylinder | sphere | hemisphere
     Vec3 size = Vec3(10, 10, 10);  ///< box edge lengths, µm (shape = box); the box spans [0, size]
     double radius = 5.0;           ///< µm (cylinder, sphere, hemisphere)
     double height = 10.0;          ///< µm (cylinder, axis z from 0 to height)
     long particles = 1000;         ///< target particle count: the lattice spacing follows from the shape volume
-    double bond_tolerance = 0.05;  ///< bond pairs closer than (1 + tol)(R_i + R_j)
+    double bond_tolerance = 0.05;  ///< lattices: bond pairs closer than (1 + tol)(R_i + R_j)
+    double radius_dispersion = 0.2;///< random: radii uniform in [R̄(1−d), R̄(1+d)]
+    double packing_fraction = 0.63;///< random: target packing fraction of the interior
+    double coordination = 6.2;     ///< random: target mean coordination
+    std::string file;              ///< random: packing cache (HDF5); loaded if present and matching, else written
 };
 
 /// Micro-parameters of the cohesive beams (paper Table 1) and the particle density.

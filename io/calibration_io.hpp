@@ -1,0 +1,40 @@
+// The elastic calibration file (TOML): fitted coefficients of the paper's eqs (5)–(6), the micro-parameters
+// for the targets, the packing it is valid for, and the raw tensile-test samples with their provenance.
+// Scenes use it through [material] calibration = "path".
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "solver/calibration.hpp"
+#include "solver/scene.hpp"
+
+namespace vitrum {
+
+struct CalibrationRecord {
+    CalibrationSample sample;
+    std::uint64_t seed = 0;
+    double kinetic_to_strain = 0.0; ///< quasi-static check of that test
+};
+
+struct CalibrationFile {
+    ElasticCalibration fit;
+    double target_young = 72.5;   ///< GPa
+    double target_poisson = 0.17;
+    double density = 2200.0;      ///< kg/m³
+    double beam_poisson = 0.3;    ///< ν_μ (no influence on E, ν: paper §2.2.1)
+    CalibrationSample micro;      ///< r̃, E_μ for the targets
+    SampleParams packing;         ///< the packing the calibration is valid for (µm)
+    std::vector<CalibrationRecord> records;
+    std::string command;          ///< the command that regenerates the file
+    std::string vitrum_version;
+};
+
+/// TOML text of the calibration file.
+std::string calibrationToml(const CalibrationFile& file);
+
+/// Reads the micro-parameters and fit of a calibration file (InputError with file:line on bad content).
+CalibrationFile readCalibration(const std::string& path);
+
+} // namespace vitrum

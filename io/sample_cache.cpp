@@ -1,0 +1,65 @@
+#include "io/sample_cache.hpp"
+
+#include <filesystem>
+
+#include "io/packing_io.hpp"
+#include "solver/errors.hpp"
+#include "solver/packing.hpp"
+
+namespace vitrum {
+
+namespace fs = std::filesystem;
+
+std::string sampleCachePath(const Scene& scene) {
+    if (scene.sample.file.empty()) {
+        return {};
+    }
+    const fs::path file(scene.sample.file);
+    if (file.is_absolute()) {
+        return file.string();
+    }
+    return (fs::path(scene.source_path).parent_path() / file).lexically_normal().string();
+}
+
+SampleSource loadOrBuildSample(const Scene& scene) {
+    const std::string path = sampleCachePath(scene);
+    if (path.empty() || scene.sample.lattice != "random") {
+        if (!path.empty()) {
+            throw InputError(scene.source_path + ": key 'sample.file': a packing cache needs lattice = \"random\" "
+                             "(a " + scene.sample.lattice + " lattice is rebuilt exactly in no time)");
+        }
+        return {buildSample(scene), scene.sample.lattice == "random" ? "packed" : "lattice"};
+    }
+    const PackingParams wanted = packingParamsFor(scene.sample, scene.seed);
+    if (fs::exists(path)) {
+        Packing cached = loadPacking(path);
+        const nlohmann::ordered_json a = packingParamsJson(cached.params);
+        const nlohmann::ordered_json b = packingParamsJson(wanted);
+        if (a != b) {
+            std::string diff;
+            for (auto it = b.begin(); it != b.end(); ++it) {
+                if (!a.contains(it.key()) || a[it.key()] != it.value()) {
+                    diff += (diff.empty() ? "" : ", ") + it.key() + " (cache " +
+                            (a.contains(it.key()) ? a[it.key()].dump() : "missing") + ", scene " + it.value().dump() + ")";
+                }
+            }
+            throw InputError(scene.source_path + ": key 'sample.file': the packing cache " + path +
+                             " was made with other parameters: " + diff +
+                             "; delete it to re-pack, or point sample.file elsewhere");
+        }
+        return {{std::move(cached.sample), std::move(cached.bond_pairs)}, "loaded from " + path};
+    }
+    Packing packing;
+    try {
+        packing = packRandom(wanted);
+    } catch (const std::invalid_argument& e) {
+        throw InputError(scene.source_path + ": [sample]: " + e.what());
+    }
+    if (fs::path(path).has_parent_path()) {
+        fs::create_directories(fs::path(path).parent_path());
+    }
+    savePacking(path, packing);
+    return {{std::move(packing.sample), std::move(packing.bond_pairs)}, "packed and cached in " + path};
+}
+
+} // namespace vitrum
