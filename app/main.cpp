@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/calibrate_command.hpp"
+#include "app/pack_command.hpp"
 #include "app/run_command.hpp"
 #include "solver/errors.hpp"
 
@@ -29,6 +30,30 @@ int main(int argc, char** argv) {
                         "Save a checkpoint (state.h5) and stop after this many steps, e.g. to chain jobs under a "
                         "batch time limit; continue with --restart")
         ->check(CLI::PositiveNumber);
+
+    vitrum::PackOptions pack;
+    std::vector<double> pack_size;
+    CLI::App* pack_cmd = app.add_subcommand(
+        "pack", "Build a dense random packing (compacted inside the shape, bonded to a target coordination), "
+                "save it as HDF5 for scenes ([sample] file) and print its report. Lengths in um.");
+    pack_cmd->add_option("shape", pack.params.shape, "box | cylinder | sphere | hemisphere")
+        ->required()->check(CLI::IsMember({"box", "cylinder", "sphere", "hemisphere"}));
+    pack_cmd->add_option("--particles", pack.params.particles, "Number of spheres")->required()
+        ->check(CLI::PositiveNumber);
+    pack_cmd->add_option("--radius", pack.params.radius, "Shape radius (um): cylinder, sphere, hemisphere")
+        ->capture_default_str();
+    pack_cmd->add_option("--height", pack.params.height, "Cylinder height (um)")->capture_default_str();
+    pack_cmd->add_option("--size", pack_size, "Box edge lengths x,y,z (um)")->delimiter(',')->expected(3);
+    pack_cmd->add_option("--dispersion", pack.params.radius_dispersion, "Radii uniform in [R(1-d), R(1+d)]")
+        ->capture_default_str();
+    pack_cmd->add_option("--packing-fraction", pack.params.target_packing_fraction, "Target interior packing fraction")
+        ->capture_default_str();
+    pack_cmd->add_option("--coordination", pack.params.target_coordination, "Target mean coordination")
+        ->capture_default_str();
+    pack_cmd->add_option("--seed", pack.params.seed, "Random seed")->capture_default_str();
+    pack_cmd->add_option("--out", pack.output, "Packing file to write (.h5)")->required();
+    pack_cmd->add_option("--json", pack.json, "Also write the report as JSON");
+    pack_cmd->add_option("--threads", pack.threads, "OpenMP threads")->check(CLI::PositiveNumber);
 
     vitrum::CalibrateOptions calibrate;
     CLI::App* calibrate_cmd = app.add_subcommand("calibrate", "Micro-macro calibration of the beam network");
@@ -60,6 +85,12 @@ int main(int argc, char** argv) {
     try {
         if (run_cmd->parsed()) {
             return vitrum::runScene(run);
+        }
+        if (pack_cmd->parsed()) {
+            if (pack_size.size() == 3) {
+                pack.params.size = vitrum::Vec3(pack_size[0], pack_size[1], pack_size[2]);
+            }
+            return vitrum::packCommand(pack);
         }
         if (elastic_cmd->parsed()) {
             for (int k = 0; k < argc; ++k) {

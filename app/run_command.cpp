@@ -18,6 +18,7 @@
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/fields.hpp"
+#include "io/packing_io.hpp"
 #include "io/progress.hpp"
 #include "io/sample_cache.hpp"
 #include "io/scene_reader.hpp"
@@ -369,6 +370,10 @@ int runScene(const RunOptions& options) {
     summary["particles"] = model.particles.size();
     summary["bonds"] = model.bonds.size();
     summary["mean_coordination"] = mean_coordination;
+    summary["sample_origin"] = source.origin;
+    if (source.report) {
+        summary["packing"] = packingReportJson(*source.report);
+    }
     summary["mean_radius_um"] = mean_radius;
     summary["min_radius_um"] = min_radius;
     summary["steps"] = steps;

@@ -23,15 +23,15 @@ std::string sampleCachePath(const Scene& scene) {
 
 SampleSource loadOrBuildSample(const Scene& scene) {
     const std::string path = sampleCachePath(scene);
-    if (path.empty() || scene.sample.lattice != "random") {
+    if (scene.sample.lattice != "random") {
         if (!path.empty()) {
             throw InputError(scene.source_path + ": key 'sample.file': a packing cache needs lattice = \"random\" "
                              "(a " + scene.sample.lattice + " lattice is rebuilt exactly in no time)");
         }
-        return {buildSample(scene), scene.sample.lattice == "random" ? "packed" : "lattice"};
+        return {buildSample(scene), "lattice", std::nullopt};
     }
     const PackingParams wanted = packingParamsFor(scene.sample, scene.seed);
-    if (fs::exists(path)) {
+    if (!path.empty() && fs::exists(path)) {
         Packing cached = loadPacking(path);
         const nlohmann::ordered_json a = packingParamsJson(cached.params);
         const nlohmann::ordered_json b = packingParamsJson(wanted);
@@ -47,7 +47,7 @@ SampleSource loadOrBuildSample(const Scene& scene) {
                              " was made with other parameters: " + diff +
                              "; delete it to re-pack, or point sample.file elsewhere");
         }
-        return {{std::move(cached.sample), std::move(cached.bond_pairs)}, "loaded from " + path};
+        return {{std::move(cached.sample), std::move(cached.bond_pairs)}, "loaded from " + path, cached.report};
     }
     Packing packing;
     try {
@@ -55,11 +55,15 @@ SampleSource loadOrBuildSample(const Scene& scene) {
     } catch (const std::invalid_argument& e) {
         throw InputError(scene.source_path + ": [sample]: " + e.what());
     }
+    if (path.empty()) {
+        return {{std::move(packing.sample), std::move(packing.bond_pairs)}, "packed", packing.report};
+    }
     if (fs::path(path).has_parent_path()) {
         fs::create_directories(fs::path(path).parent_path());
     }
     savePacking(path, packing);
-    return {{std::move(packing.sample), std::move(packing.bond_pairs)}, "packed and cached in " + path};
+    return {{std::move(packing.sample), std::move(packing.bond_pairs)}, "packed and cached in " + path,
+            packing.report};
 }
 
 } // namespace vitrum

@@ -5,13 +5,17 @@
 
 #include <string>
 
+#include <optional>
+
 #include "solver/model.hpp"
+#include "solver/packing.hpp"
 
 namespace vitrum {
 
 struct SampleSource {
     BondedSample sample;
     std::string origin; ///< "lattice", "packed", "packed and cached in <path>", "loaded from <path>"
+    std::optional<PackingReport> report; ///< random packings: what the packing is like
 };
 
 /// buildSample(scene), through the cache when scene.sample.file is set (random packings only). A cache made
