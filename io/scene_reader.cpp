@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -15,6 +16,7 @@
 
 #include <toml++/toml.h>
 
+#include "io/calibration_io.hpp"
 #include "io/units.hpp"
 #include "solver/errors.hpp"
 
@@ -527,8 +529,32 @@ void SceneParser::readSample(const TableReader& top, Scene& scene) const {
 
 void SceneParser::readMaterial(const TableReader& top, Scene& scene) const {
     const TableReader material = top.subtable("material");
-    material.allowOnly({"density", "beam_young_modulus", "beam_poisson_ratio", "beam_radius_ratio"});
+    material.allowOnly({"calibration", "density", "beam_young_modulus", "beam_poisson_ratio", "beam_radius_ratio"});
     MaterialParams& m = scene.material;
+    // A calibration file (vitrum calibrate elastic) gives the micro-parameters and the density it was made
+    // for; keys given beside it would silently contradict it, so they are refused.
+    if (auto calibration = material.string("calibration")) {
+        const toml::node* node = material.find("calibration");
+        for (const char* key : {"beam_young_modulus", "beam_poisson_ratio", "beam_radius_ratio"}) {
+            if (const toml::node* other = material.find(key)) {
+                fail(other->source(), "key '" + material.dotted(key) + "': given together with material.calibration "
+                                      "(which sets it); give one or the other");
+            }
+        }
+        std::filesystem::path file(*calibration);
+        if (file.is_relative()) {
+            file = std::filesystem::path(scene.source_path).parent_path() / file;
+        }
+        try {
+            const CalibrationFile c = readCalibration(file.lexically_normal().string());
+            m.beam_young = c.micro.beam_young;
+            m.radius_ratio = c.micro.radius_ratio;
+            m.beam_poisson = c.beam_poisson;
+            m.density = c.density * 1e-3;
+        } catch (const InputError& e) {
+            fail(node->source(), "key 'material.calibration': " + std::string(e.what()));
+        }
+    }
     if (auto density = material.number("density", kPositive, "in kg/m^3")) {
         m.density = toInternal(*density, 1e-3); // kg/m³ → 10³ kg/m³
     }
