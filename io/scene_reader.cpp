@@ -532,17 +532,28 @@ void SceneParser::readMaterial(const TableReader& top, Scene& scene) const {
     material.allowOnly({"calibration", "density", "beam_young_modulus", "beam_poisson_ratio", "beam_radius_ratio"});
     MaterialParams& m = scene.material;
     // A calibration file (vitrum calibrate elastic) gives the micro-parameters and the density it was made
-    // for; keys given beside it would silently contradict it, so they are refused.
+    // for. A beam key beside it in the same place (both in the file, or both --set) would silently contradict
+    // it and is refused; across places the command line wins (a --set key over the file's calibration, a
+    // --set calibration over the file's keys).
+    std::vector<std::string> superseded;
     if (auto calibration = material.string("calibration")) {
         const toml::node* node = material.find("calibration");
+        const bool calibration_overridden = isOverride(node->source());
         for (const char* key : {"beam_young_modulus", "beam_poisson_ratio", "beam_radius_ratio"}) {
             if (const toml::node* other = material.find(key)) {
-                fail(other->source(), "key '" + material.dotted(key) + "': given together with material.calibration "
-                                      "(which sets it); give one or the other");
+                const bool key_overridden = isOverride(other->source());
+                if (key_overridden == calibration_overridden) {
+                    fail(other->source(), "key '" + material.dotted(key) +
+                                              "': given together with material.calibration (which sets it); give "
+                                              "one or the other");
+                }
+                if (calibration_overridden) {
+                    superseded.push_back(key);
+                }
             }
         }
         std::filesystem::path file(*calibration);
-        if (file.is_relative()) {
+        if (file.is_relative() && !calibration_overridden) {
             file = std::filesystem::path(scene.source_path).parent_path() / file;
         }
         try {
@@ -555,16 +566,20 @@ void SceneParser::readMaterial(const TableReader& top, Scene& scene) const {
             fail(node->source(), "key 'material.calibration': " + std::string(e.what()));
         }
     }
+    auto taken = [&](const char* key) { return !contains(superseded, key); };
     if (auto density = material.number("density", kPositive, "in kg/m^3")) {
         m.density = toInternal(*density, 1e-3); // kg/m³ → 10³ kg/m³
     }
-    if (auto young = material.number("beam_young_modulus", kPositive, "in " + scene.units.stress)) {
+    if (auto young = material.number("beam_young_modulus", kPositive, "in " + scene.units.stress);
+        young && taken("beam_young_modulus")) {
         m.beam_young = toInternal(*young, stress_);
     }
-    m.beam_poisson =
-        material.number("beam_poisson_ratio", Range{-1.0, 0.5, true, true}).value_or(m.beam_poisson);
-    m.radius_ratio =
-        material.number("beam_radius_ratio", Range{0.0, 2.0, true, false}).value_or(m.radius_ratio);
+    if (auto nu = material.number("beam_poisson_ratio", Range{-1.0, 0.5, true, true}); nu && taken("beam_poisson_ratio")) {
+        m.beam_poisson = *nu;
+    }
+    if (auto r = material.number("beam_radius_ratio", Range{0.0, 2.0, true, false}); r && taken("beam_radius_ratio")) {
+        m.radius_ratio = *r;
+    }
 }
 
 bool isSetName(std::string_view name) {
