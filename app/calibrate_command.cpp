@@ -85,7 +85,7 @@ int calibrateElastic(const CalibrateOptions& o) {
                 const nlohmann::json m = readJson(fs::path(run.out_dir) / "summary.json")["measurements"];
                 CalibrationRecord rec;
                 rec.seed = seed;
-                rec.sample = {ratio, young, m["apparent_modulus_GPa"].get<double>(), m["poisson_ratio"].get<double>()};
+                rec.sample = {ratio, young, m["young_modulus_GPa"].get<double>(), m["poisson_ratio"].get<double>()};
                 rec.kinetic_to_strain = m["kinetic_to_strain_energy"].get<double>();
                 file.records.push_back(rec);
                 ++done;

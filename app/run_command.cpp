@@ -201,12 +201,12 @@ int runScene(const RunOptions& options) {
         gauge = uniaxialGauge(model, scene.measure.axis);
         loaded = static_cast<std::size_t>(
             std::find(probed.begin(), probed.end(), model.setIndex(scene.measure.loaded_set)) - probed.begin());
-        for (const char* c : {"uniaxial_stress_GPa", "uniaxial_strain", "lateral_strain"}) {
+        for (const char* c : {"uniaxial_stress_GPa", "uniaxial_strain", "extensometer_strain", "lateral_strain"}) {
             columns.push_back(c);
         }
     }
     struct UniaxialSample {
-        double stress, strain, lateral;
+        double stress, strain, extensometer, lateral;
     };
     std::vector<UniaxialSample> uniaxial;
     SeriesWriter series((out / "series.csv").string(), columns);
@@ -225,9 +225,9 @@ int runScene(const RunOptions& options) {
             const int axis = gauge->axis;
             const UniaxialSample u{-last.reaction[loaded][axis] / gauge->area,
                                    last.displacement[loaded][axis] / gauge->gauge,
-                                   lateralStrain(*gauge, model.particles)};
+                                   extensometerStrain(*gauge, model.particles), lateralStrain(*gauge, model.particles)};
             uniaxial.push_back(u);
-            row.insert(row.end(), {u.stress, u.strain, u.lateral});
+            row.insert(row.end(), {u.stress, u.strain, u.extensometer, u.lateral});
         }
         series.row(row);
     };
@@ -352,9 +352,13 @@ int runScene(const RunOptions& options) {
         const UniaxialSample& end = uniaxial.back();
         measurements["uniaxial_stress_GPa"] = end.stress;
         measurements["uniaxial_strain"] = end.strain;
+        measurements["extensometer_strain"] = end.extensometer;
         measurements["lateral_strain"] = end.lateral;
+        // E and ν from the extensometer (gauge section); the end-displacement modulus includes the grips.
+        measurements["young_modulus_GPa"] = end.extensometer != 0.0 ? end.stress / end.extensometer : 0.0;
+        measurements["poisson_ratio"] = end.extensometer != 0.0 ? -end.lateral / end.extensometer : 0.0;
         measurements["apparent_modulus_GPa"] = end.strain != 0.0 ? end.stress / end.strain : 0.0;
-        measurements["poisson_ratio"] = end.strain != 0.0 ? -end.lateral / end.strain : 0.0;
+        measurements["extensometer_particles"] = gauge->lower.size() + gauge->upper.size();
         measurements["lateral_gauge_particles"] = gauge->lateral.size();
         measurements["cross_section_um2"] = gauge->area;
         measurements["gauge_length_um"] = gauge->gauge;

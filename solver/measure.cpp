@@ -29,6 +29,25 @@ UniaxialGauge uniaxialGauge(const Model& model, int axis) {
         hi = std::max(hi, p.initial_position[3 * i + axis]);
     }
     g.gauge = hi - lo;
+    double mean_diameter = 0.0;
+    for (double r : p.radius) {
+        mean_diameter += 2.0 * r / static_cast<double>(p.size());
+    }
+    double z_lower = 0.0;
+    double z_upper = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double z = p.initial_position[3 * i + axis];
+        if (std::abs(z - (lo + g.gauge / 3.0)) <= 0.5 * mean_diameter) {
+            g.lower.push_back(static_cast<std::int32_t>(i));
+            z_lower += z;
+        } else if (std::abs(z - (hi - g.gauge / 3.0)) <= 0.5 * mean_diameter) {
+            g.upper.push_back(static_cast<std::int32_t>(i));
+            z_upper += z;
+        }
+    }
+    if (!g.lower.empty() && !g.upper.empty()) {
+        g.slice_distance = z_upper / static_cast<double>(g.upper.size()) - z_lower / static_cast<double>(g.lower.size());
+    }
     const double third_lo = lo + g.gauge / 3.0;
     const double third_hi = hi - g.gauge / 3.0;
     const Vec3 centre = s.shape == "box" ? Vec3(0.5 * s.size) : Vec3::Zero();
@@ -72,6 +91,21 @@ UniaxialGauge uniaxialGauge(const Model& model, int axis) {
         g.arm.push_back(arm);
     }
     return g;
+}
+
+double extensometerStrain(const UniaxialGauge& g, const Particles& p) {
+    if (g.lower.empty() || g.upper.empty() || !(g.slice_distance > 0.0)) {
+        return 0.0;
+    }
+    auto mean = [&](const std::vector<std::int32_t>& slice) {
+        double sum = 0.0;
+        for (std::int32_t m : slice) {
+            const auto i = static_cast<std::size_t>(m);
+            sum += p.position[3 * i + g.axis] - p.initial_position[3 * i + g.axis];
+        }
+        return sum / static_cast<double>(slice.size());
+    };
+    return (mean(g.upper) - mean(g.lower)) / g.slice_distance;
 }
 
 double lateralStrain(const UniaxialGauge& g, const Particles& p) {
