@@ -1,4 +1,5 @@
-// The uniaxial gauge's kinematics: a homogeneous deformation must be read back exactly.
+// The uniaxial gauge's kinematics: a homogeneous deformation must be read back exactly (lateral strain and
+// extensometer strain).
 #include <gtest/gtest.h>
 
 #include "solver/errors.hpp"
@@ -32,6 +33,9 @@ TEST(UniaxialGauge, ReadsLateralStrainOfAHomogeneousDeformationOnCylinderAndBox)
         const Vec3 centre = std::string(shape) == "box" ? Vec3(2, 2, 4) : Vec3(0, 0, 4);
         deformAffinely(m, centre, Vec3(-1.7e-4, -1.7e-4, 1e-3));
         EXPECT_NEAR(lateralStrain(g, m.particles), -1.7e-4, 1e-12 * 1.7e-4) << shape;
+        ASSERT_GT(g.lower.size(), 10u);
+        ASSERT_GT(g.upper.size(), 10u);
+        EXPECT_NEAR(extensometerStrain(g, m.particles), 1e-3, 1e-12 * 1e-3) << shape;
         for (std::size_t k = 0; k < g.lateral.size(); ++k) {
             const double z = m.particles.initial_position[3 * g.lateral[k] + 2];
             EXPECT_GE(z, g.gauge / 3.0 - 1e-9);
