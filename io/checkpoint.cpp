@@ -40,6 +40,10 @@ static_assert(sizeof(Particles) == fieldCount<Particles>() * sizeof(std::vector<
 static_assert(sizeof(Bonds) == fieldCount<Bonds>() * sizeof(std::vector<double>),
               "a member was added to Bonds: add it to forEachField(Bonds&) in io/checkpoint.hpp");
 
+/// Per-bond state of an optional effect (densification): sized only when the effect is on, so it may be
+/// empty; it is then stored with 0 rows and read back empty.
+bool effectField(std::string_view name) { return name == "slip" || name == "reference_strain"; }
+
 // --- HDF5 plumbing -----------------------------------------------------------------------------------------
 
 /// Owns one hid_t and closes it with the matching H5?close.
@@ -181,11 +185,12 @@ public:
         forEachField(store, [&](const char* name, const auto& values, int components) {
             using T = typename std::decay_t<decltype(values)>::value_type;
             const std::string where = "/" + group_name + "/" + name;
-            if (values.size() != n * components) {
+            const bool absent = values.empty() && effectField(name); // stored with 0 rows
+            if (values.size() != n * components && !absent) {
                 fail("field '" + where + "' holds " + std::to_string(values.size()) + " values, expected " +
                      std::to_string(n) + " x " + std::to_string(components));
             }
-            const hsize_t dims[2] = {n, static_cast<hsize_t>(components)};
+            const hsize_t dims[2] = {absent ? 0 : n, static_cast<hsize_t>(components)};
             Handle space(H5Screate_simple(2, dims, nullptr), H5Sclose);
             if (!space.valid()) {
                 fail("cannot create the dataspace of '" + where + "'");
@@ -321,10 +326,15 @@ public:
             Handle space(H5Dget_space(dataset.get()), H5Sclose);
             hsize_t dims[2] = {0, 0};
             if (!space.valid() || H5Sget_simple_extent_ndims(space.get()) != 2 ||
-                H5Sget_simple_extent_dims(space.get(), dims, nullptr) != 2 || dims[0] != n ||
+                H5Sget_simple_extent_dims(space.get(), dims, nullptr) != 2 ||
+                (dims[0] != n && !(dims[0] == 0 && effectField(name))) ||
                 dims[1] != static_cast<hsize_t>(components)) {
                 fail("dataset '" + where + "' does not have shape (" + std::to_string(n) + ", " +
                      std::to_string(components) + ")");
+            }
+            if (dims[0] == 0 && n > 0) { // an effect's state the run did not have
+                values.clear();
+                return;
             }
             values.assign(n * components, T{});
             if (n > 0 &&

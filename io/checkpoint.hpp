@@ -68,6 +68,8 @@ constexpr void forEachField(B& b, F&& field) {
     field("force", b.force, 3);
     field("torque_i", b.torque_i, 3);
     field("torque_j", b.torque_j, 3);
+    field("slip", b.slip, 1);                         // effect densification (empty without it)
+    field("reference_strain", b.reference_strain, 1); // effect densification (empty without it)
 }
 
 /// Writes the checkpoint atomically: to `path + ".tmp"`, flushed, closed and fsync'ed, then renamed onto

@@ -21,17 +21,79 @@ inline EulerBernoulliBeam lawOf(const BondView& b, std::size_t k) {
     return EulerBernoulliBeam::make(b.young[k], b.shear[k], b.section_radius[k], b.rest_length[k]);
 }
 
-template <bool Viscous>
-void beamLoadsLoop(const BondView& b, const ParticleView& p, double damping_ratio) {
-    parallelFor("bonds.beam_loads", b.n, [&](std::size_t k) {
+/// Densification of bond k (kernels/densification.hpp): the slider's return mapping on the axial strain,
+/// then, if it slipped and the properties evolve, the new E_μ, G_μ, section radius and the rescaled
+/// references that keep N, the shear force and the moments continuous. Writes the bond's state and
+/// properties (the kernel's own bond only) and returns its beam law; `kin` is updated to the new references.
+template <bool Evolve>
+EulerBernoulliBeam densify(const DensificationLaw& law, const DensificationView& d, const ParticleView& p,
+                           const BondView& b, std::size_t k, BeamKinematics& kin) {
+    const double l0 = b.rest_length[k];
+    const double strain = kin.stretch / l0;
+    const SliderState old{d.slip[k], d.reference_strain[k]};
+    double section_factor = 1.0; // S/S₀: the slider works with the nominal stress N/S₀
+    if constexpr (Evolve) {
+        const double r = law.evolution.scaleAt(old.slip / law.slider.max_slip).radius_ratio;
+        section_factor = r * r;
+    }
+    const SliderResult result = law.slider.update(old, strain, d.young[k] * section_factor);
+    SliderState next = result.state;
+    if constexpr (Evolve) {
+        if (result.slipped) {
+            const PropertyEvolution::Micro before = law.evolution.scaleAt(old.slip / law.slider.max_slip);
+            const PropertyEvolution::Micro after = law.evolution.scaleAt(next.slip / law.slider.max_slip);
+            const double young_factor = after.beam_young / before.beam_young;
+            const double radius_factor = after.radius_ratio / before.radius_ratio;
+            const StiffnessRatios ratio = stiffnessRatios(young_factor, radius_factor);
+            // Axial: (E S)_new (ε − ε_r') = (E S)_old (ε − ε_r).
+            next.reference_strain = strain - ratio.axial * (strain - next.reference_strain);
+            d.young[k] *= young_factor;
+            d.shear[k] *= young_factor;
+            d.section_radius[k] *= radius_factor;
+            // Bending and twist: (E I)_new θ' = (E I)_old θ, by moving the section normals towards the
+            // chord and turning the twist reference about it.
+            const std::size_t i = static_cast<std::size_t>(b.i[k]);
+            const std::size_t j = static_cast<std::size_t>(b.j[k]);
+            const Quat qi = loadQuat(p.orientation, i);
+            const Quat qj = loadQuat(p.orientation, j);
+            kin.theta_i *= ratio.bending;
+            kin.theta_j *= ratio.bending;
+            const auto normalOf = [&](const Vec3& theta) {
+                const double angle = theta.norm();
+                return angle > 0.0 ? Vec3(Eigen::AngleAxisd(angle, theta / angle) * kin.axis) : kin.axis;
+            };
+            store3(d.axis_i, k, qi.conjugate() * normalOf(kin.theta_i));
+            store3(d.axis_j, k, qj.conjugate() * normalOf(kin.theta_j));
+            const double twist_change = (ratio.bending - 1.0) * kin.twist;
+            kin.twist += twist_change;
+            const Quat turn(Eigen::AngleAxisd(twist_change, kin.axis));
+            storeQuat(d.twist_ref, k, (qj.conjugate() * turn * qj * loadQuat(d.twist_ref, k)).normalized());
+        }
+    }
+    d.slip[k] = next.slip;
+    d.reference_strain[k] = next.reference_strain;
+    kin.stretch = (strain - next.reference_strain) * l0;
+    return EulerBernoulliBeam::make(d.young[k], d.shear[k], d.section_radius[k], l0);
+}
+
+/// Viscous: bond-viscous dashpots. Densify: 0 none, 1 slider, 2 slider + property evolution.
+template <bool Viscous, int Densify = 0>
+void beamLoadsLoop(const BondView& b, const ParticleView& p, double damping_ratio,
+                   const DensificationLaw* dlaw = nullptr, const DensificationView* dview = nullptr) {
+    parallelFor(Densify ? "bonds.beam_loads+densification" : "bonds.beam_loads", b.n, [&](std::size_t k) {
         if (b.broken[k]) {
             store3(b.force, k, Vec3::Zero());
             store3(b.torque_i, k, Vec3::Zero());
             store3(b.torque_j, k, Vec3::Zero());
             return;
         }
-        const BeamKinematics kin = kinematicsOf(b, p, k);
-        const EulerBernoulliBeam law = lawOf(b, k);
+        BeamKinematics kin = kinematicsOf(b, p, k);
+        EulerBernoulliBeam law{};
+        if constexpr (Densify > 0) {
+            law = densify<Densify == 2>(*dlaw, *dview, p, b, k, kin);
+        } else {
+            law = lawOf(b, k);
+        }
         BeamLoads loads = law.evaluate(kin);
         if constexpr (Viscous) {
             const std::size_t i = static_cast<std::size_t>(b.i[k]);
@@ -60,6 +122,35 @@ void computeBeamLoads(const BondView& bonds, const ParticleView& particles) {
 
 void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const BondViscousDamping& damping) {
     beamLoadsLoop<true>(bonds, particles, damping.ratio);
+}
+
+void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const DensificationLaw& law,
+                      const DensificationView& state) {
+    if (law.evolve) {
+        beamLoadsLoop<false, 2>(bonds, particles, 0.0, &law, &state);
+    } else {
+        beamLoadsLoop<false, 1>(bonds, particles, 0.0, &law, &state);
+    }
+}
+
+void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const BondViscousDamping& damping,
+                      const DensificationLaw& law, const DensificationView& state) {
+    if (law.evolve) {
+        beamLoadsLoop<true, 2>(bonds, particles, damping.ratio, &law, &state);
+    } else {
+        beamLoadsLoop<true, 1>(bonds, particles, damping.ratio, &law, &state);
+    }
+}
+
+double beamStrainEnergy(const BondView& b, const ParticleView& p, const DensificationView& d) {
+    return parallelReduce("bonds.strain_energy", b.n, 0.0, [&](std::size_t k, double& acc) {
+        if (!b.broken[k]) {
+            BeamKinematics kin = kinematicsOf(b, p, k);
+            kin.stretch -= d.reference_strain[k] * b.rest_length[k];
+            acc += EulerBernoulliBeam::make(d.young[k], d.shear[k], d.section_radius[k], b.rest_length[k])
+                       .energy(kin);
+        }
+    });
 }
 
 void gatherBondLoads(const IncidenceView& inc, const BondView& b, const ParticleView& p) {

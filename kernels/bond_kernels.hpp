@@ -4,6 +4,7 @@
 // incident bonds in the fixed CSR order, so results are identical for any thread count.
 #pragma once
 
+#include "kernels/densification.hpp"
 #include "kernels/views.hpp"
 
 namespace vitrum {
@@ -20,10 +21,20 @@ void computeBeamLoads(const BondView& bonds, const ParticleView& particles);
 /// Same, plus bond-viscous damping.
 void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const BondViscousDamping& damping);
 
+/// Same, with the densification spring-slider in series with every beam (effect `densification`): reads and
+/// writes the per-bond state and, with property evolution, the bond's E_μ, G_μ, section radius and references
+/// (kernels/densification.hpp). `state` aliases the bond store's own arrays; each bond writes only its own.
+void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const DensificationLaw& law,
+                      const DensificationView& state);
+void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const BondViscousDamping& damping,
+                      const DensificationLaw& law, const DensificationView& state);
+
 /// Sets each particle's force and torque to the sum of its bonds' loads (CSR order). Overwrites.
 void gatherBondLoads(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles);
 
 /// Total strain energy stored in the unbroken beams, nJ (deterministic reduction).
 double beamStrainEnergy(const BondView& bonds, const ParticleView& particles);
+/// Same, with the densified bonds' reference strains (elastic energy only; the slider's dissipation is not in it).
+double beamStrainEnergy(const BondView& bonds, const ParticleView& particles, const DensificationView& state);
 
 } // namespace vitrum

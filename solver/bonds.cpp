@@ -28,6 +28,11 @@ void Bonds::add(const Particles& p, std::int32_t a, std::int32_t b, const Materi
     const Vec3 axis_b = qb.conjugate() * x0;
     const Quat ref = qb.conjugate() * qa;
 
+    const bool densified = !i.empty() && densificationEnabled();
+    if (densified) {
+        slip.push_back(0.0);
+        reference_strain.push_back(0.0);
+    }
     i.push_back(a);
     j.push_back(b);
     rest_length.push_back(l0);
@@ -61,6 +66,27 @@ BondView Bonds::view() {
     v.force = force.data();
     v.torque_i = torque_i.data();
     v.torque_j = torque_j.data();
+    return v;
+}
+
+void Bonds::enableDensification() {
+    if (!densificationEnabled()) {
+        slip.assign(size(), 0.0);
+        reference_strain.assign(size(), 0.0);
+    }
+}
+
+DensificationView Bonds::densificationView() {
+    DensificationView v;
+    v.n = size();
+    v.slip = slip.data();
+    v.reference_strain = reference_strain.data();
+    v.young = young.data();
+    v.shear = shear.data();
+    v.section_radius = section_radius.data();
+    v.axis_i = axis_i.data();
+    v.axis_j = axis_j.data();
+    v.twist_ref = twist_ref.data();
     return v;
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/densification.hpp"
 #include "kernels/views.hpp"
 
 namespace vitrum {
@@ -24,6 +25,10 @@ struct Bonds {
     std::vector<double> force;         ///< 3n, per-bond loads written by the beam kernel
     std::vector<double> torque_i;      ///< 3n
     std::vector<double> torque_j;      ///< 3n
+    // Effect `densification` only (kernels/densification.hpp); empty otherwise, so a run without the effect
+    // allocates nothing for it. Sized by enableDensification().
+    std::vector<double> slip;             ///< n, e_p: accumulated permanent shortening
+    std::vector<double> reference_strain; ///< n, ε_r: N = E S (ε − ε_r)
 
     std::size_t size() const { return i.size(); }
 
@@ -33,6 +38,12 @@ struct Bonds {
     void add(const Particles& p, std::int32_t a, std::int32_t b, const MaterialParams& material);
 
     BondView view();
+
+    /// Sizes the densification state (zero: undensified) if it is not sized yet.
+    void enableDensification();
+    bool densificationEnabled() const { return slip.size() == size() && reference_strain.size() == size(); }
+    /// The densification state and the properties it rewrites; requires enableDensification().
+    DensificationView densificationView();
 };
 
 struct Incidence {
