@@ -29,7 +29,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The 1 + 6 effects of DESIGN.md §4; only the first two have kernels so far.
 const std::vector<std::string> kKnownEffects = {"elasticity", "densification", "fracture", "contact",
                                                 "indenter",   "coupling",      "damping"};
-const std::vector<std::string> kAvailableEffects = {"elasticity", "damping"};
+const std::vector<std::string> kAvailableEffects = {"elasticity", "damping", "densification"};
 const std::vector<std::string> kOutputFields = {"displacement", "velocity",     "force", "angular_velocity",
                                                 "torque",       "coordination", "radius"};
 
@@ -235,6 +235,7 @@ private:
     void readSets(const TableReader& top, Scene& scene) const;
     void readBoundaries(const TableReader& top, Scene& scene) const;
     void readDamping(const TableReader& top, Scene& scene) const;
+    void readDensification(const TableReader& top, Scene& scene) const;
     void readTime(const TableReader& top, Scene& scene) const;
     void readMeasure(const TableReader& top, Scene& scene) const;
     void readOutput(const TableReader& top, Scene& scene) const;
@@ -247,6 +248,8 @@ private:
     double time_ = 1.0;
     double velocity_ = 1.0;
     const toml::node* damping_effect_ = nullptr; ///< the "damping" entry of effects.list, for messages
+    const toml::node* densification_effect_ = nullptr; ///< the "densification" entry of effects.list
+    mutable std::optional<CalibrationFile> material_calibration_; ///< [material] calibration, once read
 };
 
 // --- TableReader ------------------------------------------------------------------------------------------
@@ -434,7 +437,7 @@ void SceneParser::applyOverride(toml::table& root, const std::string& assignment
 Scene SceneParser::build(const toml::table& root) {
     const TableReader top(*this, &root, "", "the scene");
     top.allowOnly({"scene", "units", "effects", "sample", "material", "sets", "boundary", "damping", "time",
-                   "measure", "output"});
+                   "measure", "output", "densification"});
     Scene scene;
     scene.source_path = source_name_;
     readUnits(top, scene); // first: the other tables' numbers are in these units
@@ -452,6 +455,7 @@ Scene SceneParser::build(const toml::table& root) {
     readSets(top, scene); // before the tables that refer to sets by name
     readBoundaries(top, scene);
     readDamping(top, scene);
+    readDensification(top, scene);
     readTime(top, scene);
     readMeasure(top, scene);
     readOutput(top, scene);
@@ -491,6 +495,9 @@ void SceneParser::readEffects(const TableReader& top, Scene& scene) {
         }
         if (item.value == "damping") {
             damping_effect_ = item.node;
+        }
+        if (item.value == "densification") {
+            densification_effect_ = item.node;
         }
         scene.effects.push_back(item.value);
     }
@@ -562,6 +569,7 @@ void SceneParser::readMaterial(const TableReader& top, Scene& scene) const {
             m.radius_ratio = c.micro.radius_ratio;
             m.beam_poisson = c.beam_poisson;
             m.density = c.density * 1e-3;
+            material_calibration_ = c; // eqs (5)-(6) for [densification]
         } catch (const InputError& e) {
             fail(node->source(), "key 'material.calibration': " + std::string(e.what()));
         }
@@ -724,6 +732,100 @@ void SceneParser::readDamping(const TableReader& top, Scene& scene) const {
         damping.missing("coefficient", range.text() + " for kind = " + tomlString(*kind));
     }
     d.coefficient = coefficient.value_or(0.0);
+}
+
+void SceneParser::readDensification(const TableReader& top, Scene& scene) const {
+    const TableReader table = top.subtable("densification");
+    if (table.table() && !scene.hasEffect("densification")) {
+        fail(table.table()->source(), "table [densification] is given but effects.list does not contain "
+                                      "\"densification\" (expected \"densification\" in effects.list, or no "
+                                      "[densification] table)");
+    }
+    if (!scene.hasEffect("densification")) {
+        return;
+    }
+    table.allowOnly({"yield_stress", "tangent_modulus", "max_permanent_strain", "property_evolution", "young_gain",
+                     "poisson_gain", "calibration", "young_modulus", "poisson_ratio", "poisson_ratio_max", "eq5",
+                     "eq6_b0", "eq6_b1"});
+    DensificationParams& d = scene.densification;
+    const std::string in_stress = "in " + scene.units.stress;
+    if (auto v = table.number("yield_stress", kPositive, in_stress)) {
+        d.yield_stress = toInternal(*v, stress_);
+    }
+    if (auto v = table.number("tangent_modulus", kNonNegative, in_stress)) {
+        d.tangent_modulus = toInternal(*v, stress_);
+    }
+    if (d.tangent_modulus >= scene.material.beam_young) {
+        const toml::node* node = table.find("tangent_modulus");
+        fail(node ? node->source() : densification_effect_->source(),
+             "key 'densification.tangent_modulus': expected a number below material.beam_young_modulus (" +
+                 shortest(fromInternal(scene.material.beam_young, stress_)) + " " + scene.units.stress +
+                 "; the slider's hardening E E_t/(E - E_t) needs E_t < E), got " +
+                 shortest(fromInternal(d.tangent_modulus, stress_)));
+    }
+    d.max_permanent_strain =
+        table.number("max_permanent_strain", Range{0.0, 1.0, true, true}).value_or(d.max_permanent_strain);
+    if (const toml::node* node = table.find("property_evolution")) {
+        if (!node->is_boolean()) {
+            table.mismatch(*node, "property_evolution", "true or false");
+        }
+        d.property_evolution = node->as_boolean()->get();
+    }
+    d.young_gain = table.number("young_gain", kNonNegative).value_or(d.young_gain);
+    d.poisson_gain = table.number("poisson_gain", kNonNegative).value_or(d.poisson_gain);
+    // Eqs (5)-(6): from this table's calibration file, else [material]'s; explicit keys override either.
+    std::optional<CalibrationFile> own;
+    if (auto path = table.string("calibration")) {
+        const toml::node* node = table.find("calibration");
+        std::filesystem::path file(*path);
+        if (file.is_relative() && !isOverride(node->source())) {
+            file = std::filesystem::path(scene.source_path).parent_path() / file;
+        }
+        try {
+            own = readCalibration(file.lexically_normal().string());
+        } catch (const InputError& e) {
+            fail(node->source(), "key 'densification.calibration': " + std::string(e.what()));
+        }
+    }
+    const std::optional<CalibrationFile>& calibration = own ? own : material_calibration_;
+    if (calibration) {
+        const ElasticCalibration& fit = calibration->fit;
+        d.eq5 = Vec3(fit.a[0], fit.a[1], fit.a[2]);
+        d.eq6_b0 = Vec3(fit.b0[0], fit.b0[1], fit.b0[2]);
+        d.eq6_b1 = Vec3(fit.b1[0], fit.b1[1], fit.b1[2]);
+        d.young = calibration->target_young;
+        d.poisson = calibration->target_poisson;
+        d.poisson_max = fit.nu_max;
+    }
+    int explicit_eqs = 0;
+    if (auto v = table.vector3("eq5", kAny, "1")) {
+        d.eq5 = *v;
+        ++explicit_eqs;
+    }
+    if (auto v = table.vector3("eq6_b0", kAny, scene.units.stress)) {
+        d.eq6_b0 = Vec3(toInternal(v->x(), stress_), toInternal(v->y(), stress_), toInternal(v->z(), stress_));
+        ++explicit_eqs;
+    }
+    if (auto v = table.vector3("eq6_b1", kAny, "1")) {
+        d.eq6_b1 = *v;
+        ++explicit_eqs;
+    }
+    if (auto v = table.number("young_modulus", kPositive, in_stress)) {
+        d.young = toInternal(*v, stress_);
+    }
+    d.poisson = table.number("poisson_ratio", Range{-1.0, 0.5, true, true}).value_or(d.poisson);
+    d.poisson_max = table.number("poisson_ratio_max", Range{-1.0, 0.5, true, true}).value_or(d.poisson_max);
+    if (d.property_evolution && !calibration && explicit_eqs < 3) {
+        fail(table.table() ? table.table()->source() : densification_effect_->source(),
+             "effect \"densification\" with property_evolution = true needs the calibrated eqs (5)-(6): "
+             "expected densification.calibration or material.calibration (a file of vitrum calibrate elastic), "
+             "or all of densification.eq5, eq6_b0, eq6_b1, or densification.property_evolution = false");
+    }
+    if (d.property_evolution && d.poisson > d.poisson_max) {
+        fail(table.table() ? table.table()->source() : densification_effect_->source(),
+             "key 'densification.poisson_ratio': expected at most poisson_ratio_max (" + shortest(d.poisson_max) +
+                 "), got " + shortest(d.poisson));
+    }
 }
 
 void SceneParser::readTime(const TableReader& top, Scene& scene) const {
@@ -897,6 +999,18 @@ std::string resolvedSceneToml(const Scene& scene) {
                            : d.kind == DampingKind::CundallLocal ? "cundall"
                                                                  : "bond-viscous";
         out << "[damping]\nkind = \"" << kind << "\"\ncoefficient = " << tomlFloat(d.coefficient) << "\n\n";
+    }
+    if (scene.hasEffect("densification")) {
+        const DensificationParams& d = scene.densification;
+        out << "[densification]\nyield_stress = " << fileFloat(d.yield_stress, stress) << " # " << u.stress
+            << "\ntangent_modulus = " << fileFloat(d.tangent_modulus, stress) << " # " << u.stress
+            << "\nmax_permanent_strain = " << tomlFloat(d.max_permanent_strain)
+            << "\nproperty_evolution = " << (d.property_evolution ? "true" : "false")
+            << "\nyoung_gain = " << tomlFloat(d.young_gain) << "\npoisson_gain = " << tomlFloat(d.poisson_gain)
+            << "\nyoung_modulus = " << fileFloat(d.young, stress) << " # " << u.stress
+            << "\npoisson_ratio = " << tomlFloat(d.poisson) << "\npoisson_ratio_max = " << tomlFloat(d.poisson_max)
+            << "\neq5 = " << fileVec(d.eq5, 1.0) << "\neq6_b0 = " << fileVec(d.eq6_b0, stress) << " # " << u.stress
+            << "\neq6_b1 = " << fileVec(d.eq6_b1, 1.0) << "\n\n";
     }
     out << "[time]\nsafety_ratio = " << tomlFloat(scene.time.safety_ratio)
         << "\nduration = " << fileFloat(scene.time.duration, time) << " # " << u.time << "\n\n";

@@ -13,7 +13,9 @@ ProbeValues measureProbes(Model& model, const std::vector<std::size_t>& probed_s
     v.time = time;
     const ParticleView p = model.particles.view();
     v.kinetic = kineticEnergy(p);
-    v.strain_energy = beamStrainEnergy(model.bonds.view(), p);
+    v.strain_energy = model.bonds.densificationEnabled() && model.bonds.size() > 0
+                          ? beamStrainEnergy(model.bonds.view(), p, model.bonds.densificationView())
+                          : beamStrainEnergy(model.bonds.view(), p);
     for (std::size_t s : probed_sets) {
         const NamedSet& set = model.sets[s];
         v.reaction.push_back(setForceSum(p, set.members.data(), set.members.size()));

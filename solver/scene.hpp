@@ -69,6 +69,23 @@ struct DampingParams {
     double coefficient = 0.0; ///< Cundall α ∈ [0,1) or bond-viscous fraction of critical damping
 };
 
+/// Effect `densification` (paper §2.2, kernels/densification.hpp). Defaults: paper Table 3; the macroscopic
+/// gains of Ji (paper Fig 4); eqs (5)–(6) come from the elastic calibration file.
+struct DensificationParams {
+    double yield_stress = 7.13;         ///< σ_μ^d, GPa
+    double tangent_modulus = 98.82;     ///< E_μ^t, GPa (0 ≤ E_μ^t < E_μ)
+    double max_permanent_strain = 0.067;///< ε_μ^pmax
+    bool property_evolution = true;     ///< E and ν rise with densification (needs eqs 5–6)
+    double young_gain = 0.46;           ///< relative rise of E at saturation
+    double poisson_gain = 0.56;         ///< relative rise of ν at saturation (capped at poisson_max)
+    double young = 72.5;                ///< E₀, macroscopic before densification, GPa
+    double poisson = 0.17;              ///< ν₀
+    double poisson_max = 0.25;          ///< the largest ν eq (5) is valid for (calibration's validity range)
+    Vec3 eq5 = Vec3::Zero();            ///< a₀, a₁, a₂
+    Vec3 eq6_b0 = Vec3::Zero();         ///< b₀₀, b₀₁, b₀₂, GPa
+    Vec3 eq6_b1 = Vec3::Zero();         ///< b₁₀, b₁₁, b₁₂
+};
+
 struct TimeParams {
     double safety_ratio = 0.1; ///< Δt = ratio × Δt_crit (kernels/timestep.hpp)
     double duration = 1.0;     ///< ns of simulated time
@@ -100,6 +117,7 @@ struct Scene {
     std::vector<SetParams> sets;
     std::vector<BoundaryParams> boundaries;
     DampingParams damping;
+    DensificationParams densification;
     TimeParams time;
     MeasureParams measure;
     OutputParams output;

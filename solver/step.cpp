@@ -43,6 +43,24 @@ std::string Step::describe() const {
     return out;
 }
 
+DensificationLaw densificationLaw(const Scene& scene) {
+    const DensificationParams& d = scene.densification;
+    DensificationLaw law;
+    law.slider = SpringSlider::make(d.yield_stress, d.tangent_modulus, d.max_permanent_strain,
+                                    scene.material.beam_young);
+    law.evolve = d.property_evolution;
+    PropertyEvolution& e = law.evolution;
+    e.a = {d.eq5.x(), d.eq5.y(), d.eq5.z()};
+    e.b0 = {d.eq6_b0.x(), d.eq6_b0.y(), d.eq6_b0.z()};
+    e.b1 = {d.eq6_b1.x(), d.eq6_b1.y(), d.eq6_b1.z()};
+    e.young = d.young;
+    e.poisson = d.poisson;
+    e.poisson_max = d.poisson_max;
+    e.young_gain = d.young_gain;
+    e.poisson_gain = d.poisson_gain;
+    return law;
+}
+
 Step composeStep(const Scene& scene, Model& model) {
     Step step;
     step.add("integrate.kick_drift", false, [](StepContext& c) {
@@ -69,7 +87,24 @@ Step composeStep(const Scene& scene, Model& model) {
     }
 
     const bool damping = scene.hasEffect("damping");
-    if (damping && scene.damping.kind == DampingKind::BondViscous) {
+    if (scene.hasEffect("densification")) {
+        // The slider acts in the beam's own pass (one kinematics per bond); its per-bond state is sized here,
+        // only for this effect (a restart's checkpoint brings it back filled).
+        model.bonds.enableDensification();
+        const DensificationLaw law = densificationLaw(scene);
+        if (damping && scene.damping.kind == DampingKind::BondViscous) {
+            const BondViscousDamping viscous{scene.damping.coefficient};
+            step.add("bonds.beam_loads+densification+viscous", true, [viscous, law](StepContext& c) {
+                computeBeamLoads(c.model.bonds.view(), c.model.particles.view(), viscous, law,
+                                 c.model.bonds.densificationView());
+            });
+        } else {
+            step.add("bonds.beam_loads+densification", true, [law](StepContext& c) {
+                computeBeamLoads(c.model.bonds.view(), c.model.particles.view(), law,
+                                 c.model.bonds.densificationView());
+            });
+        }
+    } else if (damping && scene.damping.kind == DampingKind::BondViscous) {
         const BondViscousDamping viscous{scene.damping.coefficient};
         step.add("bonds.beam_loads+viscous", true, [viscous](StepContext& c) {
             computeBeamLoads(c.model.bonds.view(), c.model.particles.view(), viscous);

@@ -6,6 +6,7 @@
 //   integrate.kick_drift   v,ω += Δt/2·F/m, T/J; x += Δt v; q ← exp(Δt ω/2) q       (always)
 //   bc.prescribe           displacement ramps of constrained sets                   (if any displacement BC)
 //   bonds.beam_loads       Euler–Bernoulli beam loads per bond                       (elasticity)
+//                          + densification spring-slider in series, same pass       (densification)
 //                          + bond-viscous dashpots                                   (damping: bond-viscous)
 //   bonds.gather           per-particle sums over the CSR incidence                  (elasticity)
 //   damping.cundall        local non-viscous damping of F and T                      (damping: cundall)
@@ -50,7 +51,10 @@ private:
     std::vector<Phase> phases_;
 };
 
-/// Composes the step for `scene`'s effects over `model`.
+/// The densification law of `scene` (slider and property evolution), kernels/densification.hpp.
+DensificationLaw densificationLaw(const Scene& scene);
+
+/// Composes the step for `scene`'s effects over `model` (sizes the bonds' densification state if listed).
 Step composeStep(const Scene& scene, Model& model);
 
 } // namespace vitrum
