@@ -119,7 +119,7 @@ int runScene(const RunOptions& options) {
     std::error_code ec;
     fs::create_directories(out / "maps", ec);
     if (ec) {
-        throw RuntimeFailure("cannot create output directory '" + out.string() + "': " + ec.message());
+        throw InputError("cannot create output directory '" + out.string() + "': " + ec.message());
     }
     const std::string resolved_text = resolvedSceneToml(scene);
     Sha256 scene_hash;
