@@ -29,6 +29,7 @@
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
 #include "solver/errors.hpp"
+#include "solver/hydrostatic.hpp"
 #include "solver/measure.hpp"
 #include "solver/probes.hpp"
 #include "solver/step.hpp"
@@ -205,6 +206,11 @@ int runScene(const RunOptions& options) {
             columns.push_back(c);
         }
     }
+    std::optional<HydrostaticGauge> hydrostatic; // [[load]] pressure: volume of the loaded hull
+    if (!model.loads.empty()) {
+        hydrostatic = hydrostaticGauge(model);
+        columns.insert(columns.end(), {"pressure_GPa", "hull_volume_um3"});
+    }
     struct UniaxialSample {
         double stress, strain, extensometer, lateral;
     };
@@ -228,6 +234,10 @@ int runScene(const RunOptions& options) {
                                    extensometerStrain(*gauge, model.particles), lateralStrain(*gauge, model.particles)};
             uniaxial.push_back(u);
             row.insert(row.end(), {u.stress, u.strain, u.extensometer, u.lateral});
+        }
+        if (hydrostatic) {
+            hydrostatic->sample(model, time);
+            row.insert(row.end(), {model.loads[0].params.pressureAt(time), hydrostatic->volume(model)});
         }
         series.row(row);
     };
@@ -362,6 +372,20 @@ int runScene(const RunOptions& options) {
         measurements["lateral_gauge_particles"] = gauge->lateral.size();
         measurements["cross_section_um2"] = gauge->area;
         measurements["gauge_length_um"] = gauge->gauge;
+    }
+
+    if (hydrostatic) {
+        const HydrostaticResult h = hydrostaticResult(*hydrostatic, model, scene.densification.max_permanent_strain);
+        measurements["pressure_GPa"] = h.pressure;
+        measurements["initial_volume_um3"] = h.initial_volume;
+        measurements["in_situ_volume_change"] = h.in_situ_volume_change;
+        measurements["residual_volume_change"] = h.residual_volume_change;
+        measurements["residual_density_change"] = h.residual_density_change;
+        measurements["volume_measure"] = "convex hull of the particle centres (CGAL convex_hull_3)";
+        if (scene.hasEffect("densification")) {
+            measurements["densified_bond_fraction"] = h.densified_bond_fraction;
+            measurements["saturated_bond_fraction"] = h.saturated_bond_fraction;
+        }
     }
 
     const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();

@@ -236,6 +236,7 @@ private:
     void readBoundaries(const TableReader& top, Scene& scene) const;
     void readDamping(const TableReader& top, Scene& scene) const;
     void readDensification(const TableReader& top, Scene& scene) const;
+    void readLoads(const TableReader& top, Scene& scene) const;
     void readTime(const TableReader& top, Scene& scene) const;
     void readMeasure(const TableReader& top, Scene& scene) const;
     void readOutput(const TableReader& top, Scene& scene) const;
@@ -437,7 +438,7 @@ void SceneParser::applyOverride(toml::table& root, const std::string& assignment
 Scene SceneParser::build(const toml::table& root) {
     const TableReader top(*this, &root, "", "the scene");
     top.allowOnly({"scene", "units", "effects", "sample", "material", "sets", "boundary", "damping", "time",
-                   "measure", "output", "densification"});
+                   "measure", "output", "densification", "load"});
     Scene scene;
     scene.source_path = source_name_;
     readUnits(top, scene); // first: the other tables' numbers are in these units
@@ -454,6 +455,7 @@ Scene SceneParser::build(const toml::table& root) {
     readMaterial(top, scene);
     readSets(top, scene); // before the tables that refer to sets by name
     readBoundaries(top, scene);
+    readLoads(top, scene);
     readDamping(top, scene);
     readDensification(top, scene);
     readTime(top, scene);
@@ -734,6 +736,40 @@ void SceneParser::readDamping(const TableReader& top, Scene& scene) const {
     d.coefficient = coefficient.value_or(0.0);
 }
 
+void SceneParser::readLoads(const TableReader& top, Scene& scene) const {
+    const toml::node* node = top.find("load");
+    if (!node) {
+        return;
+    }
+    const toml::array* array = node->as_array();
+    if (!array ||
+        std::any_of(array->begin(), array->end(), [](const toml::node& n) { return !n.is_table(); })) {
+        top.mismatch(*node, "load", "an array of tables [[load]]");
+    }
+    for (std::size_t i = 0; i < array->size(); ++i) {
+        const TableReader l(*this, array->get(i)->as_table(), "load[" + std::to_string(i) + "]", "[[load]]");
+        l.allowOnly({"set", "kind", "pressure", "ramp_time", "hold_time", "release_time"});
+        LoadParams params;
+        if (!l.find("set")) {
+            l.missing("set", "the name of a set defined in [sets]");
+        }
+        params.set = definedSet(l, "set", scene);
+        if (!l.choice("kind", {"pressure"})) {
+            l.missing("kind", "\"pressure\"");
+        }
+        const auto pressure = l.number("pressure", kNonNegative, "in " + scene.units.stress);
+        if (!pressure) {
+            l.missing("pressure", kNonNegative.text() + " (in " + scene.units.stress + ")");
+        }
+        params.pressure = toInternal(*pressure, stress_);
+        const std::string in_time = "in " + scene.units.time;
+        params.ramp_time = toInternal(l.number("ramp_time", kNonNegative, in_time).value_or(0.0), time_);
+        params.hold_time = toInternal(l.number("hold_time", kNonNegative, in_time).value_or(0.0), time_);
+        params.release_time = toInternal(l.number("release_time", kNonNegative, in_time).value_or(0.0), time_);
+        scene.loads.push_back(params);
+    }
+}
+
 void SceneParser::readDensification(const TableReader& top, Scene& scene) const {
     const TableReader table = top.subtable("densification");
     if (table.table() && !scene.hasEffect("densification")) {
@@ -992,6 +1028,12 @@ std::string resolvedSceneToml(const Scene& scene) {
             break;
         }
         out << "\n";
+    }
+    for (const LoadParams& l : scene.loads) {
+        out << "[[load]]\nset = " << tomlString(l.set) << "\nkind = \"pressure\"\npressure = "
+            << fileFloat(l.pressure, stress) << " # " << u.stress << "\nramp_time = " << fileFloat(l.ramp_time, time)
+            << " # " << u.time << "\nhold_time = " << fileFloat(l.hold_time, time) << " # " << u.time
+            << "\nrelease_time = " << fileFloat(l.release_time, time) << " # " << u.time << "\n\n";
     }
     if (scene.hasEffect("damping")) {
         const DampingParams& d = scene.damping;

@@ -9,6 +9,7 @@
 #include "solver/particles.hpp"
 #include "solver/sample.hpp"
 #include "solver/scene.hpp"
+#include "solver/surface.hpp"
 
 namespace vitrum {
 
@@ -28,12 +29,20 @@ struct BoundaryCondition {
     Vec3 rateAt(double t) const;
 };
 
+/// A pressure load on the convex hull of a set (built once from the initial positions).
+struct PressureLoad {
+    std::size_t set = 0; ///< index into Model::sets
+    LoadParams params;   ///< internal units
+    HullSurface surface;
+};
+
 struct Model {
     Particles particles;
     Bonds bonds;
     Incidence incidence;
     std::vector<NamedSet> sets;
     std::vector<BoundaryCondition> boundaries;
+    std::vector<PressureLoad> loads;
     SampleParams sample;      ///< geometry the sample was built for (µm)
     double spacing = 0.0;     ///< lattice constant, µm
 

@@ -61,6 +61,28 @@ struct BoundaryParams {
     double ramp_time = 0.0;    ///< ns, Displacement only; 0 = applied at once
 };
 
+/// A surface load (not kinematic): hydrostatic pressure on the convex hull of a set's centres (solver/
+/// surface.hpp, kernels/pressure.hpp), ramped linearly to `pressure` over ramp_time, held for hold_time,
+/// released linearly over release_time, then zero.
+struct LoadParams {
+    std::string set;
+    double pressure = 0.0;     ///< GPa, compressive positive
+    double ramp_time = 0.0;    ///< ns
+    double hold_time = 0.0;    ///< ns
+    double release_time = 0.0; ///< ns
+
+    double pressureAt(double t) const {
+        if (t < ramp_time) {
+            return pressure * t / ramp_time;
+        }
+        const double released = t - ramp_time - hold_time;
+        if (released <= 0.0) {
+            return pressure;
+        }
+        return released < release_time ? pressure * (1.0 - released / release_time) : 0.0;
+    }
+};
+
 enum class DampingKind { None, CundallLocal, BondViscous };
 
 /// Explicit damping (effect `damping`), always reported in the log and summary.
@@ -116,6 +138,7 @@ struct Scene {
     MaterialParams material;
     std::vector<SetParams> sets;
     std::vector<BoundaryParams> boundaries;
+    std::vector<LoadParams> loads; ///< [[load]]
     DampingParams damping;
     DensificationParams densification;
     TimeParams time;

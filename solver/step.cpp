@@ -5,6 +5,7 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/boundary.hpp"
 #include "kernels/integrate.hpp"
+#include "kernels/pressure.hpp"
 
 namespace vitrum {
 
@@ -116,6 +117,14 @@ Step composeStep(const Scene& scene, Model& model) {
     step.add("bonds.gather", true, [](StepContext& c) {
         gatherBondLoads(c.model.incidence.view(), c.model.bonds.view(), c.model.particles.view());
     });
+    if (!model.loads.empty()) {
+        // After the gather (which overwrites the forces) and before damping (which acts on the total force).
+        step.add("loads.pressure", true, [](StepContext& c) {
+            for (const PressureLoad& load : c.model.loads) {
+                applyPressure(c.model.particles.view(), load.surface.view(), load.params.pressureAt(c.time));
+            }
+        });
+    }
     if (damping && scene.damping.kind == DampingKind::CundallLocal) {
         const double alpha = scene.damping.coefficient;
         step.add("damping.cundall", true,

@@ -9,6 +9,7 @@
 //                          + densification spring-slider in series, same pass       (densification)
 //                          + bond-viscous dashpots                                   (damping: bond-viscous)
 //   bonds.gather           per-particle sums over the CSR incidence                  (elasticity)
+//   loads.pressure         hydrostatic pressure on a set's hull                     (if any [[load]])
 //   damping.cundall        local non-viscous damping of F and T                      (damping: cundall)
 //   integrate.kick         v,ω += Δt/2·F/m, T/J                                      (always)
 #pragma once

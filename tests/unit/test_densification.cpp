@@ -146,7 +146,8 @@ TEST(SpringSlider, PerfectSliderWithZeroTangent) {
 
 // --- property evolution -------------------------------------------------------------------------------------
 
-/// The committed silica calibration (examples/calibration/silica.toml), eqs (5)–(6).
+/// A silica calibration of eqs (5)–(6) (examples/calibration/silica.toml as of commit 3305ac5), fixed here so
+/// the test does not move when the calibration is regenerated.
 PropertyEvolution silicaEvolution() {
     PropertyEvolution e;
     e.a = {1.289909578910843, -3.792113559430187, 2.381399216042253};
@@ -161,7 +162,7 @@ PropertyEvolution silicaEvolution() {
 TEST(PropertyEvolution, StartsAtTheCalibrationAndEndsAtPlus46PercentWithNuCapped) {
     const PropertyEvolution e = silicaEvolution();
     const auto zero = e.at(0.0);
-    // The calibration file's micro-parameters for (72.5 GPa, 0.17), to its printed precision.
+    // That file's micro-parameters for (72.5 GPa, 0.17), to its printed precision.
     EXPECT_NEAR(zero.radius_ratio, 0.7140727111513323, 1e-12);
     EXPECT_NEAR(zero.beam_young, 230.5207542653147, 1e-9);
     const auto end = e.at(1.0);

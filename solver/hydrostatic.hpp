@@ -1,0 +1,38 @@
+// The hydrostatic sphere test's measurements (paper §2.2.2–2.2.3): the volume enclosed by the convex hull of
+// the loaded set's centres before loading, in situ (at the held maximum pressure) and after release.
+// Volume changes are compactions: (V₀ − V)/V₀, positive when the sample shrank; the density change of the
+// residual state is V₀/V − 1 (mass is conserved).
+#pragma once
+
+#include "solver/model.hpp"
+
+namespace vitrum {
+
+struct HydrostaticGauge {
+    std::size_t load = 0;          ///< index into Model::loads (the first pressure load)
+    double initial_volume = 0.0;   ///< V₀, fresh convex hull of the initial centres, µm³
+    double in_situ_volume = 0.0;   ///< followed hull volume at the last sample under the full pressure, µm³
+    bool in_situ_seen = false;
+
+    /// Volume of the followed hull (the load's mesh at the current positions), µm³.
+    double volume(const Model& model) const;
+    /// Records a probe at `time` (the in-situ volume while the pressure is at its maximum).
+    void sample(const Model& model, double time);
+};
+
+HydrostaticGauge hydrostaticGauge(const Model& model);
+
+struct HydrostaticResult {
+    double pressure = 0.0;              ///< P_max, GPa
+    double initial_volume = 0.0;        ///< µm³
+    double in_situ_volume_change = 0.0; ///< (V₀ − V_insitu)/V₀
+    double residual_volume_change = 0.0;///< (V₀ − V_end)/V₀, V_end from a fresh convex hull of the final centres
+    double residual_density_change = 0.0; ///< V₀/V_end − 1
+    double densified_bond_fraction = 0.0; ///< bonds with slip > 0 (0 without the effect)
+    double saturated_bond_fraction = 0.0; ///< bonds at ε_μ^pmax
+};
+
+/// Measurements at the end of the run.
+HydrostaticResult hydrostaticResult(const HydrostaticGauge& gauge, const Model& model, double max_slip);
+
+} // namespace vitrum
