@@ -70,6 +70,7 @@ def main() -> int:
     os.makedirs(a.out, exist_ok=True)
     history = []
     et_history = []  # (E_t, P_s) at the current sigma_d, for the secant step
+    sd_history = []  # (sigma_d, P_d), for the secant step
 
     def evaluate(k):
         run = argparse.Namespace(particles=a.particles, seed=a.seed, rest=a.rest, threads=a.threads,
@@ -93,10 +94,17 @@ def main() -> int:
         if abs(pd - target_pd) <= tol_pd and abs(p_s - target_ps) <= tol_ps and abs(dv - target_dv) <= tol_dv:
             converged = True
             break
-        if abs(pd - target_pd) > tol_pd:  # 1. sigma_d: P_d proportional to it (paper Fig 7a)
-            params["yield_stress"] *= target_pd / pd
+        if abs(pd - target_pd) > tol_pd:  # 1. sigma_d: P_d linear in it (paper Fig 7a): secant, else proportional
+            sd = params["yield_stress"]
+            sd_history.append((sd, pd))
+            if len(sd_history) >= 2 and sd_history[-1][1] != sd_history[-2][1]:
+                (x0, y0), (x1, y1) = sd_history[-2], sd_history[-1]
+                params["yield_stress"] = x1 + (target_pd - y1) * (x1 - x0) / (y1 - y0)
+            else:
+                params["yield_stress"] = sd * target_pd / pd
             et_history.clear()
-        elif abs(p_s - target_ps) > tol_ps:  # 2. E_t sets the spread P_s - P_d (Fig 8b)
+        elif abs(p_s - target_ps) > tol_ps and not (params["tangent_modulus"] == 0.0 and p_s > target_ps):
+            # 2. E_t sets the spread P_s - P_d (Fig 8b); at E_t = 0 it can lower P_s no further
             et = params["tangent_modulus"]
             et_history.append((et, p_s))
             if len(et_history) >= 2 and et_history[-1][1] != et_history[-2][1]:
