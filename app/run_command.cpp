@@ -29,6 +29,7 @@
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
 #include "solver/errors.hpp"
+#include "solver/frequency.hpp"
 #include "solver/hydrostatic.hpp"
 #include "solver/measure.hpp"
 #include "solver/probes.hpp"
@@ -139,8 +140,11 @@ int runScene(const RunOptions& options) {
 
     // 3. Step composed from the effects; time step from the critical estimate.
     Step step = composeStep(scene, model);
-    const CriticalTimeStep critical =
-        criticalTimeStep(model.incidence.view(), model.bonds.view(), model.particles.view());
+    // ω_max by power iteration on the beam stiffness, capped by the Gershgorin bound (solver/frequency.hpp).
+    const FrequencyEstimate frequency = highestFrequency(model);
+    CriticalTimeStep critical;
+    critical.omega = frequency.omega;
+    critical.dt = frequency.omega > 0.0 ? 2.0 / frequency.omega : 0.0;
     if (!(critical.dt > 0.0)) {
         throw InputError(scene.source_path + ": the sample has no bonds; the time step cannot be estimated "
                          "(check sample.bond_tolerance)");
@@ -159,7 +163,8 @@ int runScene(const RunOptions& options) {
             << ", r_tilde = " << scene.material.radius_ratio << ", rho = " << scene.material.density * 1e3
             << " kg/m^3\n"
             << "  time step  dt = " << std::setprecision(6) << dt << " ns = " << dt / critical.dt
-            << " x dt_crit (" << critical.dt << " ns, Gershgorin bound); " << steps << " steps over "
+            << " x dt_crit (" << critical.dt << " ns = 2/omega_max, power iteration: " << frequency.iterations
+            << " iterations, Gershgorin bound " << 2.0 / frequency.omega_gershgorin << " ns); " << steps << " steps over "
             << scene.time.duration << " ns\n"
             << "  damping    " << dampingName(scene);
         if (dampingName(scene) != "none") {
@@ -407,6 +412,10 @@ int runScene(const RunOptions& options) {
     summary["steps"] = steps;
     summary["dt_ns"] = dt;
     summary["dt_critical_ns"] = critical.dt;
+    summary["omega_max_rad_per_ns"] = {{"estimate", frequency.omega},
+                                       {"rayleigh", frequency.omega_rayleigh},
+                                       {"gershgorin", frequency.omega_gershgorin},
+                                       {"iterations", frequency.iterations}};
     summary["safety_ratio"] = scene.time.safety_ratio;
     summary["duration_ns"] = scene.time.duration;
     summary["damping"] = {{"kind", dampingName(scene)},

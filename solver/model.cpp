@@ -76,6 +76,19 @@ Model buildModel(const Scene& scene, double length_factor, const BondedSample& b
         }
     }
     for (const auto& [a, b] : bonded.pairs) {
+        const auto n = static_cast<std::int32_t>(model.particles.size());
+        if (a < 0 || b < 0 || a >= n || b >= n || a == b) {
+            throw InputError(scene.source_path + ": [sample]: bond (" + std::to_string(a) + ", " + std::to_string(b) +
+                             ") names no pair of the " + std::to_string(n) + " particles");
+        }
+        const Vec3 d = load3(model.particles.position.data(), static_cast<std::size_t>(b)) -
+                       load3(model.particles.position.data(), static_cast<std::size_t>(a));
+        if (!(d.norm() > 1e-9 * (model.particles.radius[static_cast<std::size_t>(a)] +
+                                 model.particles.radius[static_cast<std::size_t>(b)]))) {
+            throw InputError(scene.source_path + ": [sample]: particles " + std::to_string(a) + " and " +
+                             std::to_string(b) + " coincide (centre distance " + std::to_string(d.norm()) +
+                             " um) and cannot be bonded; the packing is corrupt");
+        }
         model.bonds.add(model.particles, a, b, scene.material);
     }
     model.incidence = Incidence::build(model.particles.size(), model.bonds);
