@@ -10,7 +10,8 @@ reference/silica-validation.md A4) with io/plot.py.
     /usr/bin/python3 examples/densification/sweep.py [--pressures 0,2,4,...,30] [--particles 10000]
         [--seed 1] [--set KEY=VALUE ...] [--out out/hydrostatic-sweep] [--threads 2]
 
---particles scales the sphere radius to keep R̄ ≈ 0.2 µm (10 000 particles in a 5 µm sphere); --set passes
+The default protocol (ramp 10, hold 5, release 5, rest 5 ns) is the one the calibration used; the example
+file's own times are twice as long. --particles scales the sphere radius to keep R̄ ≈ 0.2 µm (10 000 particles in a 5 µm sphere); --set passes
 scene overrides through (e.g. densification.yield_stress=6.0).
 """
 import argparse
@@ -71,10 +72,10 @@ def main() -> int:
     ap.add_argument("--pressures", default="0,2,4,6,8,10,12,14,16,18,20,22,25,30")
     ap.add_argument("--particles", type=int, default=10000)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--ramp", type=float, default=20.0, help="ns")
-    ap.add_argument("--hold", type=float, default=10.0, help="ns")
-    ap.add_argument("--release", type=float, default=10.0, help="ns")
-    ap.add_argument("--rest", type=float, default=10.0, help="ns at zero pressure after the release")
+    ap.add_argument("--ramp", type=float, default=10.0, help="ns")
+    ap.add_argument("--hold", type=float, default=5.0, help="ns")
+    ap.add_argument("--release", type=float, default=5.0, help="ns")
+    ap.add_argument("--rest", type=float, default=5.0, help="ns at zero pressure after the release")
     ap.add_argument("--set", action="append", default=[], help="scene override passed to vitrum run")
     ap.add_argument("--out", default="out/hydrostatic-sweep")
     ap.add_argument("--threads", default="2")
