@@ -48,7 +48,7 @@ TEST(HydrostaticExample, RestartMidDensificationIsBitIdentical) {
     const fs::path full = testing::freshTempDir("hydrostatic-full");
     const fs::path parts = testing::freshTempDir("hydrostatic-parts");
     ASSERT_EQ(testing::runVitrum("run " + kScene + " --out " + full.string() + kQuick, full / "log.txt"), 0);
-    ASSERT_EQ(testing::runVitrum("run " + kScene + " --out " + parts.string() + kQuick + " --stop-after 900",
+    ASSERT_EQ(testing::runVitrum("run " + kScene + " --out " + parts.string() + kQuick + " --stop-after 1800",
                                  parts / "a.txt"),
               0)
         << testing::readText(parts / "a.txt");
