@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_support.hpp"
+
 #include "kernels/bond_kernels.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/timestep.hpp"
@@ -29,19 +31,8 @@ Scene randomBall(long particles, std::uint64_t seed) {
     return s;
 }
 
-void agitate(Model& m, unsigned seed, double speed) {
-    std::mt19937_64 rng(seed);
-    std::normal_distribution<double> g(0.0, speed);
-    for (std::size_t k = 0; k < m.particles.velocity.size(); ++k) {
-        m.particles.velocity[k] = g(rng);
-        m.particles.angular_velocity[k] = g(rng) / m.particles.radius[k / 3];
-    }
-}
-
-double totalEnergy(Model& m) {
-    const KineticEnergy k = kineticEnergy(m.particles.view());
-    return k.translational + k.rotational + beamStrainEnergy(m.bonds.view(), m.particles.view());
-}
+using testing::agitate;
+using testing::totalEnergy;
 
 /// Largest axial strain |l − l₀|/l₀ over the unbroken bonds: a particle escaping its neighbours (or
 /// passing through one) shows as a large bond strain.

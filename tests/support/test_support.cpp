@@ -5,9 +5,13 @@
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include <unistd.h>
+
+#include "kernels/bond_kernels.hpp"
+#include "kernels/integrate.hpp"
 
 namespace vitrum::testing {
 
@@ -26,6 +30,20 @@ int runVitrum(const std::string& args, const std::filesystem::path& log) {
     const std::string cmd = std::string(VITRUM_BINARY) + " " + args + " > '" + log.string() + "' 2>&1";
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+void agitate(Model& m, unsigned seed, double speed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> g(0.0, speed);
+    for (std::size_t k = 0; k < m.particles.velocity.size(); ++k) {
+        m.particles.velocity[k] = g(rng);
+        m.particles.angular_velocity[k] = g(rng) / m.particles.radius[k / 3];
+    }
+}
+
+double totalEnergy(Model& m) {
+    const KineticEnergy k = kineticEnergy(m.particles.view());
+    return k.translational + k.rotational + beamStrainEnergy(m.bonds.view(), m.particles.view());
 }
 
 std::string readText(const std::filesystem::path& path) {

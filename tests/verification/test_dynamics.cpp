@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_support.hpp"
+
 #include "kernels/bond_kernels.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/parallel.hpp"
@@ -26,20 +28,8 @@ Scene latticeScene(const std::string& lattice, const std::string& shape, long pa
     return s;
 }
 
-/// Random thermal-like velocities and spins (amplitude small enough to stay in the linear regime).
-void agitate(Model& m, unsigned seed, double speed) {
-    std::mt19937_64 rng(seed);
-    std::normal_distribution<double> g(0.0, speed);
-    for (std::size_t k = 0; k < m.particles.velocity.size(); ++k) {
-        m.particles.velocity[k] = g(rng);
-        m.particles.angular_velocity[k] = g(rng) / m.particles.radius[k / 3];
-    }
-}
-
-double totalEnergy(Model& m) {
-    const KineticEnergy k = kineticEnergy(m.particles.view());
-    return k.translational + k.rotational + beamStrainEnergy(m.bonds.view(), m.particles.view());
-}
+using testing::agitate;
+using testing::totalEnergy;
 
 struct EnergyRecord {
     double worst = 0.0;    ///< max |E − E₀|/E₀ over the samples
