@@ -121,12 +121,12 @@ namespace {
 const std::string kSmall = " --quiet --set sample.particles=500 --set time.duration=3.0";
 
 TEST(Restart, StopAndRestartGivesTheUninterruptedStateHash) {
-    // Checkpoint/restart (HDF5): stopping after 700 of 857 steps and continuing from state.h5 must give the
+    // Checkpoint/restart (HDF5): stopping after 300 of the run's 544 steps and continuing from state.h5 must give the
     // bit-identical final state of the uninterrupted run.
     const fs::path full = freshTempDir("restart-full");
     const fs::path parts = freshTempDir("restart-parts");
     ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + full.string() + kSmall, full / "log.txt"), 0);
-    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + parts.string() + kSmall + " --stop-after 700",
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + parts.string() + kSmall + " --stop-after 300",
                         parts / "log1.txt"), 0) << readText(parts / "log1.txt");
     EXPECT_FALSE(fs::exists(parts / "summary.json"));
     ASSERT_TRUE(fs::exists(parts / "state.h5"));
