@@ -9,7 +9,8 @@
 // neighbour-list builds), and the packing's own figures (φ interior, mean coordination, fabric anisotropy) so
 // that a speed-up that changes the packing shows.
 //
-// Run only these: FILTER=Pack bash bench/run_benchmarks.sh (or vitrum_bench --benchmark_filter=Pack).
+// Run only these: NAME=packing FILTER=Pack bash bench/run_benchmarks.sh (writes bench/results/packing_2t.json,
+// leaving the kernel results alone), or vitrum_bench --benchmark_filter=Pack.
 #include <benchmark/benchmark.h>
 
 #include <map>
