@@ -17,6 +17,7 @@
 
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
+#include "io/damage_fields.hpp"
 #include "io/fields.hpp"
 #include "io/packing_io.hpp"
 #include "io/progress.hpp"
@@ -30,6 +31,7 @@
 #include "kernels/timestep.hpp"
 #include "solver/errors.hpp"
 #include "solver/frequency.hpp"
+#include "solver/fracture.hpp"
 #include "solver/hydrostatic.hpp"
 #include "solver/measure.hpp"
 #include "solver/probes.hpp"
@@ -89,6 +91,7 @@ public:
             if (f == "angular_velocity") views.push_back({"angular_velocity_rad_per_ns", 3, p.angular_velocity.data()});
             if (f == "torque") views.push_back({"torque_mN_um", 3, p.torque.data()});
             if (f == "coordination") views.push_back({"coordination", 1, coordination_.data()});
+            if (f == "damage" || f == "stress") appendDamageFields(f, p, damage_, views); // io/damage_fields.hpp
         }
         char name[64];
         std::snprintf(name, sizeof name, "maps/particles_%08ld.vtu", step);
@@ -103,6 +106,7 @@ private:
     std::vector<std::string> fields_;
     std::vector<double> coordination_;
     std::vector<double> displacement_;
+    DamageFieldBuffers damage_;
 };
 
 } // namespace
@@ -144,7 +148,9 @@ int runScene(const RunOptions& options) {
     const FrequencyEstimate frequency = highestFrequency(model);
     CriticalTimeStep critical;
     critical.omega = frequency.omega;
-    critical.dt = frequency.omega > 0.0 ? 2.0 / frequency.omega : 0.0;
+    // Contacts (effect contact) add at most contactOmegaSquared to ω_max² (Weyl's inequality; solver/fracture.hpp).
+    critical.omega = std::sqrt(critical.omega * critical.omega + contactOmegaSquared(scene, model));
+    critical.dt = critical.omega > 0.0 ? 2.0 / critical.omega : 0.0;
     if (!(critical.dt > 0.0)) {
         throw InputError(scene.source_path + ": the sample has no bonds; the time step cannot be estimated "
                          "(check sample.bond_tolerance)");
@@ -169,6 +175,17 @@ int runScene(const RunOptions& options) {
             << "  damping    " << dampingName(scene);
         if (dampingName(scene) != "none") {
             log << " (coefficient " << scene.damping.coefficient << ")";
+        }
+        if (scene.hasEffect("fracture")) {
+            log << "\n  fracture   hydrostatic release at " << scene.fracture.hydrostatic_strength * 1e3
+                << " MPa (eq 10 stress, Omega_i = sphere / " << particleVolume(scene).packing_fraction
+                << "), checked every " << scene.fracture.check_every << " step(s)";
+        }
+        if (scene.hasEffect("contact")) {
+            const LinearContact law = contactLaw(scene, model);
+            log << "\n  contact    k_n = " << law.normal_stiffness * 1e3 << " N/m, e = " << scene.contact.restitution
+                << ", k_t/k_n = " << scene.contact.tangential_ratio << ", mu = " << law.friction << ", skin "
+                << model.contacts.skin << " um";
         }
         log << "\n  effects    ";
         for (std::size_t k = 0; k < scene.effects.size(); ++k) {
@@ -211,6 +228,10 @@ int runScene(const RunOptions& options) {
             columns.push_back(c);
         }
     }
+    const bool fracture = scene.hasEffect("fracture");
+    if (fracture) {
+        columns.insert(columns.end(), {"broken_bonds", "released_particles"});
+    }
     std::optional<HydrostaticGauge> hydrostatic; // [[load]] pressure: volume of the loaded hull
     if (!model.loads.empty()) {
         hydrostatic = hydrostaticGauge(model);
@@ -239,6 +260,10 @@ int runScene(const RunOptions& options) {
                                    extensometerStrain(*gauge, model.particles), lateralStrain(*gauge, model.particles)};
             uniaxial.push_back(u);
             row.insert(row.end(), {u.stress, u.strain, u.extensometer, u.lateral});
+        }
+        if (fracture) {
+            const DamageTotals d = damageTotals(model);
+            row.insert(row.end(), {static_cast<double>(d.broken_bonds), static_cast<double>(d.released)});
         }
         if (hydrostatic) {
             hydrostatic->sample(model, time);
@@ -273,6 +298,7 @@ int runScene(const RunOptions& options) {
                              std::to_string(steps) + " steps of " + std::to_string(dt) + " ns)");
         }
         model.incidence = Incidence::build(model.particles.size(), model.bonds);
+        model.contacts.restore(meta.contacts); // effect contact: tangential springs, onto a rebuilt list
         first = static_cast<long>(meta.step) + 1;
         ctx.time = meta.time;
         if (verbose) {
@@ -290,7 +316,7 @@ int runScene(const RunOptions& options) {
     const long checkpoint_every = scene.output.checkpoints > 0 ? std::max(1L, steps / scene.output.checkpoints) : 0;
     const std::string checkpoint_path = (out / "state.h5").string();
     auto checkpoint = [&](long n) {
-        writeCheckpoint(checkpoint_path, model.particles, model.bonds,
+        writeCheckpoint(checkpoint_path, model.particles, model.bonds, model.contacts,
                         CheckpointMeta{n, ctx.time, dt, scene.name, scene_sha256, kVersion});
     };
     const long watchdog_every = std::min(scene.output.every, 50L);
@@ -358,6 +384,14 @@ int runScene(const RunOptions& options) {
                                                    last.reaction[k].z() * kNewtonPerMilliNewton};
         measurements["displacement_" + name + "_um"] = {last.displacement[k].x(), last.displacement[k].y(),
                                                         last.displacement[k].z()};
+    }
+    if (fracture) {
+        const DamageTotals d = damageTotals(model);
+        measurements["broken_bonds"] = d.broken_bonds;
+        measurements["released_particles"] = d.released;
+        measurements["broken_bond_fraction"] =
+            model.bonds.size() ? static_cast<double>(d.broken_bonds) / static_cast<double>(model.bonds.size()) : 0.0;
+        measurements["contact_list_builds"] = model.contacts.builds;
     }
     measurements["kinetic_to_strain_energy"] =
         last.strain_energy > 0.0 ? (last.kinetic.translational + last.kinetic.rotational) / last.strain_energy : 0.0;

@@ -40,9 +40,15 @@ static_assert(sizeof(Particles) == fieldCount<Particles>() * sizeof(std::vector<
 static_assert(sizeof(Bonds) == fieldCount<Bonds>() * sizeof(std::vector<double>),
               "a member was added to Bonds: add it to forEachField(Bonds&) in io/checkpoint.hpp");
 
+static_assert(sizeof(ContactHistory) == fieldCount<ContactHistory>() * sizeof(std::vector<double>),
+              "a member was added to ContactHistory: add it to forEachField(ContactHistory&) in io/checkpoint.hpp");
+
 /// Per-bond state of an optional effect (densification): sized only when the effect is on, so it may be
 /// empty; it is then stored with 0 rows and read back empty.
-bool effectField(std::string_view name) { return name == "slip" || name == "reference_strain"; }
+bool effectField(std::string_view name) {
+    return name == "slip" || name == "reference_strain" || name == "stress" || name == "released" ||
+           name == "release_step" || name == "broken_bonds";
+}
 
 // --- HDF5 plumbing -----------------------------------------------------------------------------------------
 
@@ -376,6 +382,7 @@ void writeCheckpoint(const std::string& path, const Particles& particles, const 
         writer.attribute(root, "dt", meta.dt);
         writer.store(root, "particles", particles);
         writer.store(root, "bonds", bonds);
+        writer.store(root, "contacts", meta.contacts);
         if (H5Fflush(root, H5F_SCOPE_GLOBAL) < 0 || !file.close()) {
             writer.fail("cannot flush and close '" + tmp + "'");
         }
@@ -449,6 +456,17 @@ CheckpointMeta readCheckpoint(const std::string& path, Particles& particles, Bon
     Bonds b;
     reader.store(root, "particles", p, file_size);
     reader.store(root, "bonds", b, file_size);
+    if (H5Lexists(root, "contacts", H5P_DEFAULT) > 0) { // effect contact (absent in older files: no history)
+        reader.store(root, "contacts", meta.contacts, file_size);
+        for (std::size_t k = 0; k < meta.contacts.size(); ++k) {
+            if (meta.contacts.i[k] < 0 || meta.contacts.i[k] >= meta.contacts.j[k] ||
+                meta.contacts.j[k] >= static_cast<std::int32_t>(p.size())) {
+                reader.fail("contact " + std::to_string(k) + " joins particles " + std::to_string(meta.contacts.i[k]) +
+                            " and " + std::to_string(meta.contacts.j[k]) + ", but there are " +
+                            std::to_string(p.size()) + " particles");
+            }
+        }
+    }
 
     const auto n_particles = static_cast<std::int64_t>(p.size());
     for (std::size_t k = 0; k < b.size(); ++k) {

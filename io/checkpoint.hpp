@@ -16,6 +16,7 @@
 #include <type_traits>
 
 #include "solver/bonds.hpp"
+#include "solver/contacts.hpp"
 #include "solver/particles.hpp"
 
 namespace vitrum {
@@ -30,6 +31,7 @@ struct CheckpointMeta {
     std::string scene_name;
     std::string scene_sha256; ///< SHA-256 of the resolved scene text: a restart with another scene is refused
     std::string vitrum_version; ///< set by the caller on writing (the driver owns the version string)
+    ContactHistory contacts{}; ///< effect contact: the loaded tangential springs, /contacts (optional on reading)
 };
 
 /// The checkpoint's field table of the particle store: calls `field(name, member, components)` for every
@@ -49,6 +51,10 @@ constexpr void forEachField(P& p, F&& field) {
     field("mass", p.mass, 1);
     field("inertia", p.inertia, 1);
     field("flags", p.flags, 1);
+    field("stress", p.stress, 6);             // effect fracture (empty without it)
+    field("released", p.released, 1);         // effect fracture
+    field("release_step", p.release_step, 1); // effect fracture
+    field("broken_bonds", p.broken_bonds, 1); // effect fracture
 }
 
 /// The checkpoint's field table of the bond store (see the particle one).
@@ -72,12 +78,28 @@ constexpr void forEachField(B& b, F&& field) {
     field("reference_strain", b.reference_strain, 1); // effect densification (empty without it)
 }
 
+/// The checkpoint's field table of the contact history (effect contact; see the particle one).
+template <class C, class F>
+requires std::same_as<std::remove_const_t<C>, ContactHistory>
+constexpr void forEachField(C& c, F&& field) {
+    field("i", c.i, 1);
+    field("j", c.j, 1);
+    field("tangential", c.tangential, 3);
+}
+
 /// Writes the checkpoint atomically: to `path + ".tmp"`, flushed, closed and fsync'ed, then renamed onto
 /// `path`, so a crash or a failure mid-write leaves the previous checkpoint at `path` intact (a failed write
 /// removes its .tmp). Throws RuntimeFailure (naming the path) on any I/O failure or if a field's length is
 /// not size() × components.
 void writeCheckpoint(const std::string& path, const Particles& particles, const Bonds& bonds,
                      const CheckpointMeta& meta);
+
+/// Same, with the contact history of `contacts` (effect contact) in meta.contacts.
+inline void writeCheckpoint(const std::string& path, const Particles& particles, const Bonds& bonds,
+                            const ContactList& contacts, CheckpointMeta meta) {
+    meta.contacts = contacts.history();
+    writeCheckpoint(path, particles, bonds, meta);
+}
 
 /// Reads a checkpoint written by writeCheckpoint into `particles` and `bonds` (replaced, byte-identical to
 /// what was written) and returns its metadata. Throws InputError naming the path and the problem (missing

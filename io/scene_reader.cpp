@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <tuple>
@@ -29,9 +30,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The 1 + 6 effects of DESIGN.md §4; only the first two have kernels so far.
 const std::vector<std::string> kKnownEffects = {"elasticity", "densification", "fracture", "contact",
                                                 "indenter",   "coupling",      "damping"};
-const std::vector<std::string> kAvailableEffects = {"elasticity", "damping", "densification"};
+const std::vector<std::string> kAvailableEffects = {"elasticity", "damping", "densification", "fracture", "contact"};
 const std::vector<std::string> kOutputFields = {"displacement", "velocity",     "force", "angular_velocity",
-                                                "torque",       "coordination", "radius"};
+                                                "torque",       "coordination", "radius", "damage", "stress"};
 
 /// Shortest decimal that reads back to the same double (std::to_chars round-trip guarantee).
 std::string shortest(double x) {
@@ -237,6 +238,8 @@ private:
     void readDamping(const TableReader& top, Scene& scene) const;
     void readDensification(const TableReader& top, Scene& scene) const;
     void readLoads(const TableReader& top, Scene& scene) const;
+    void readFracture(const TableReader& top, Scene& scene) const;
+    void readContact(const TableReader& top, Scene& scene) const;
     void readTime(const TableReader& top, Scene& scene) const;
     void readMeasure(const TableReader& top, Scene& scene) const;
     void readOutput(const TableReader& top, Scene& scene) const;
@@ -438,7 +441,7 @@ void SceneParser::applyOverride(toml::table& root, const std::string& assignment
 Scene SceneParser::build(const toml::table& root) {
     const TableReader top(*this, &root, "", "the scene");
     top.allowOnly({"scene", "units", "effects", "sample", "material", "sets", "boundary", "damping", "time",
-                   "measure", "output", "densification", "load"});
+                   "measure", "output", "densification", "load", "fracture", "contact"});
     Scene scene;
     scene.source_path = source_name_;
     readUnits(top, scene); // first: the other tables' numbers are in these units
@@ -458,6 +461,8 @@ Scene SceneParser::build(const toml::table& root) {
     readLoads(top, scene);
     readDamping(top, scene);
     readDensification(top, scene);
+    readFracture(top, scene);
+    readContact(top, scene);
     readTime(top, scene);
     readMeasure(top, scene);
     readOutput(top, scene);
@@ -506,6 +511,11 @@ void SceneParser::readEffects(const TableReader& top, Scene& scene) {
     // Every other effect acts on the elastic bond network, so it is always composed, and first.
     if (!contains(scene.effects, "elasticity")) {
         scene.effects.insert(scene.effects.begin(), "elasticity");
+    }
+    // Released particles interact by contact only, so fracture switches contact on (right after it).
+    if (contains(scene.effects, "fracture") && !contains(scene.effects, "contact")) {
+        const auto at = std::find(scene.effects.begin(), scene.effects.end(), "fracture");
+        scene.effects.insert(at + 1, "contact");
     }
 }
 
@@ -864,6 +874,65 @@ void SceneParser::readDensification(const TableReader& top, Scene& scene) const 
     }
 }
 
+void SceneParser::readFracture(const TableReader& top, Scene& scene) const {
+    const TableReader table = top.subtable("fracture");
+    if (table.table() && !scene.hasEffect("fracture")) {
+        fail(table.table()->source(), "table [fracture] is given but effects.list does not contain \"fracture\" "
+                                      "(expected \"fracture\" in effects.list, or no [fracture] table)");
+    }
+    if (!scene.hasEffect("fracture")) {
+        return;
+    }
+    table.allowOnly({"hydrostatic_strength", "check_every", "volume", "packing_fraction"});
+    FractureParams& f = scene.fracture;
+    if (auto v = table.number("hydrostatic_strength", kPositive, "in " + scene.units.stress)) {
+        f.hydrostatic_strength = toInternal(*v, stress_);
+    }
+    f.check_every = table.integer("check_every", 1).value_or(f.check_every);
+    f.volume = table.choice("volume", {"packing", "sphere"}).value_or(f.volume);
+    if (auto v = table.number("packing_fraction", Range{0.0, 1.0, true, false})) {
+        if (f.volume == "sphere") {
+            fail(table.find("packing_fraction")->source(),
+                 "key 'fracture.packing_fraction': not used with volume = \"sphere\", got " + shortest(*v));
+        }
+        f.packing_fraction = *v;
+    } else {
+        // Ω_i = sphere / φ with the sample's φ: random packings their target, lattices their exact value.
+        f.packing_fraction = f.volume == "sphere"            ? 1.0
+                             : scene.sample.lattice == "sc"  ? std::numbers::pi / 6.0
+                             : scene.sample.lattice == "fcc" ? std::numbers::pi / (3.0 * std::numbers::sqrt2)
+                                                             : scene.sample.packing_fraction;
+    }
+    // The crack map comes with the effect unless [output] fields says otherwise.
+    for (const char* field : {"damage", "stress"}) {
+        if (!contains(scene.output.fields, field)) {
+            scene.output.fields.push_back(field);
+        }
+    }
+}
+
+void SceneParser::readContact(const TableReader& top, Scene& scene) const {
+    const TableReader table = top.subtable("contact");
+    if (table.table() && !scene.hasEffect("contact")) {
+        fail(table.table()->source(), "table [contact] is given but effects.list contains neither \"contact\" nor "
+                                      "\"fracture\" (expected one of them in effects.list, or no [contact] table)");
+    }
+    if (!scene.hasEffect("contact")) {
+        return;
+    }
+    table.allowOnly({"normal_stiffness", "restitution", "tangential_ratio", "friction", "skin_ratio"});
+    ContactParams& c = scene.contact;
+    const double stiffness = forceFactor(scene.units.force) / length_;
+    if (auto v = table.number("normal_stiffness", kPositive,
+                              "in " + scene.units.force + "/" + scene.units.length)) {
+        c.normal_stiffness = toInternal(*v, stiffness);
+    }
+    c.restitution = table.number("restitution", Range{0.0, 1.0, true, false}).value_or(c.restitution);
+    c.tangential_ratio = table.number("tangential_ratio", kNonNegative, "k_t / k_n").value_or(c.tangential_ratio);
+    c.friction = table.number("friction", kNonNegative).value_or(c.friction);
+    c.skin_ratio = table.number("skin_ratio", kPositive, "skin / mean radius").value_or(c.skin_ratio);
+}
+
 void SceneParser::readTime(const TableReader& top, Scene& scene) const {
     const TableReader time = top.subtable("time");
     time.allowOnly({"safety_ratio", "duration"});
@@ -909,6 +978,10 @@ void SceneParser::readOutput(const TableReader& top, Scene& scene) const {
             if (!contains(kOutputFields, item.value)) {
                 fail(item.node->source(), "key 'output.fields': expected one of " +
                                               joined(kOutputFields, true) + ", got " + describe(*item.node));
+            }
+            if ((item.value == "damage" || item.value == "stress") && !scene.hasEffect("fracture")) {
+                fail(item.node->source(), "key 'output.fields': field " + tomlString(item.value) +
+                                              " expected the effect \"fracture\" in effects.list");
             }
             o.fields.push_back(item.value);
         }
@@ -1053,6 +1126,27 @@ std::string resolvedSceneToml(const Scene& scene) {
             << "\npoisson_ratio = " << tomlFloat(d.poisson) << "\npoisson_ratio_max = " << tomlFloat(d.poisson_max)
             << "\neq5 = " << fileVec(d.eq5, 1.0) << "\neq6_b0 = " << fileVec(d.eq6_b0, stress) << " # " << u.stress
             << "\neq6_b1 = " << fileVec(d.eq6_b1, 1.0) << "\n\n";
+    }
+    if (scene.hasEffect("fracture")) {
+        const FractureParams& f = scene.fracture;
+        out << "[fracture]\nhydrostatic_strength = " << fileFloat(f.hydrostatic_strength, stress) << " # "
+            << u.stress << "\ncheck_every = " << f.check_every << "\nvolume = " << tomlString(f.volume);
+        if (f.volume == "packing") {
+            out << "\npacking_fraction = " << tomlFloat(f.packing_fraction);
+        }
+        out << "\n\n";
+    }
+    if (scene.hasEffect("contact")) {
+        const ContactParams& c = scene.contact;
+        out << "[contact]\n";
+        if (c.normal_stiffness > 0.0) {
+            out << "normal_stiffness = " << fileFloat(c.normal_stiffness, forceFactor(u.force) / length) << " # "
+                << u.force << "/" << u.length << "\n";
+        } else {
+            out << "# normal_stiffness not given: the mean beam axial stiffness of the sample\n";
+        }
+        out << "restitution = " << tomlFloat(c.restitution) << "\ntangential_ratio = " << tomlFloat(c.tangential_ratio)
+            << "\nfriction = " << tomlFloat(c.friction) << "\nskin_ratio = " << tomlFloat(c.skin_ratio) << "\n\n";
     }
     out << "[time]\nsafety_ratio = " << tomlFloat(scene.time.safety_ratio)
         << "\nduration = " << fileFloat(scene.time.duration, time) << " # " << u.time << "\n\n";

@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "solver/bonds.hpp"
+#include "solver/contacts.hpp"
+#include "solver/fracture.hpp"
 #include "solver/particles.hpp"
 #include "solver/sample.hpp"
 #include "solver/scene.hpp"
@@ -43,6 +45,8 @@ struct Model {
     std::vector<NamedSet> sets;
     std::vector<BoundaryCondition> boundaries;
     std::vector<PressureLoad> loads;
+    ContactList contacts;     ///< effect contact: neighbour list and pair loads (empty otherwise)
+    PointForces point_forces; ///< external point forces of the step (tool contacts) for the eq (10) stress
     SampleParams sample;      ///< geometry the sample was built for (µm)
     double spacing = 0.0;     ///< lattice constant, µm
 

@@ -28,6 +28,20 @@ Particles Particles::spheres(const std::vector<Vec3>& centres, const std::vector
     return p;
 }
 
+void Particles::enableFracture() {
+    const std::size_t n = size();
+    if (released.size() != n) {
+        stress.assign(6 * n, 0.0);
+        released.assign(n, 0);
+        release_step.assign(n, -1);
+        broken_bonds.assign(n, 0);
+    }
+}
+
+DamageView Particles::damageView() {
+    return {size(), stress.data(), released.data(), release_step.data(), broken_bonds.data()};
+}
+
 ParticleView Particles::view() {
     ParticleView v;
     v.n = size();

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/fracture.hpp"
 #include "kernels/views.hpp"
 
 namespace vitrum {
@@ -20,6 +21,12 @@ struct Particles {
     std::vector<double> mass;             ///< n, 10⁻¹⁵ kg
     std::vector<double> inertia;          ///< n, 10⁻¹⁵ kg·µm²
     std::vector<std::uint32_t> flags;     ///< n, ParticleFlag bits
+    // Effect `fracture` only (kernels/fracture.hpp); empty otherwise, so a run without it allocates nothing.
+    // Sized by enableFracture().
+    std::vector<double> stress;             ///< 6n, eq (10) at the last check (xx yy zz xy yz xz), GPa
+    std::vector<std::uint8_t> released;     ///< n, 1 once released
+    std::vector<std::int64_t> release_step; ///< n, step of release, −1 while intact
+    std::vector<std::int32_t> broken_bonds; ///< n, broken incident bonds
 
     std::size_t size() const { return radius.size(); }
 
@@ -27,6 +34,12 @@ struct Particles {
     static Particles spheres(const std::vector<Vec3>& centres, const std::vector<double>& radii, double density);
 
     ParticleView view();
+
+    /// Sizes the fracture state (intact, zero stress) if it is not sized yet.
+    void enableFracture();
+    bool fractureEnabled() const { return released.size() == size() && size() > 0; }
+    /// The damage state; requires enableFracture().
+    DamageView damageView();
 };
 
 } // namespace vitrum

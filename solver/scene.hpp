@@ -108,6 +108,24 @@ struct DensificationParams {
     Vec3 eq6_b1 = Vec3::Zero();         ///< b₁₀, b₁₁, b₁₂
 };
 
+/// Effect `fracture` (paper §3, eqs 7–10; kernels/virial_stress.hpp, kernels/fracture.hpp): per-particle
+/// virial stress and the hydrostatic release criterion, checked every check_every steps.
+struct FractureParams {
+    double hydrostatic_strength = 0.067; ///< σ_f^hyd, GPa (paper: 67 MPa for its Ω_i and R; recalibrate)
+    long check_every = 1;                ///< steps between evaluations of the criterion
+    std::string volume = "packing";      ///< Ω_i: "packing" (sphere / packing_fraction) | "sphere" (bare sphere)
+    double packing_fraction = 0.0;       ///< φ of Ω_i = (4/3)πR³/φ; 0 = the sample's (random: its target, fcc, sc)
+};
+
+/// Effect `contact` (on with `fracture`; kernels/contact.hpp): unbonded particle–particle contacts.
+struct ContactParams {
+    double normal_stiffness = 0.0;  ///< k_n, mN/µm; 0 = the mean beam axial stiffness E_μ S/l₀ of the sample
+    double restitution = 0.1;       ///< e ∈ (0, 1]: the dashpot c_n = 2ζ√(m* k_n)
+    double tangential_ratio = 0.5;  ///< k_t / k_n
+    double friction = 0.3;          ///< Coulomb μ
+    double skin_ratio = 0.2;        ///< Verlet skin / mean particle radius
+};
+
 struct TimeParams {
     double safety_ratio = 0.1; ///< Δt = ratio × Δt_crit (kernels/timestep.hpp)
     double duration = 1.0;     ///< ns of simulated time
@@ -141,6 +159,8 @@ struct Scene {
     std::vector<LoadParams> loads; ///< [[load]]
     DampingParams damping;
     DensificationParams densification;
+    FractureParams fracture;           ///< effect fracture
+    ContactParams contact;             ///< effect contact (on with fracture)
     TimeParams time;
     MeasureParams measure;
     OutputParams output;

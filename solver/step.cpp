@@ -6,6 +6,7 @@
 #include "kernels/boundary.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/pressure.hpp"
+#include "solver/fracture.hpp"
 
 namespace vitrum {
 
@@ -117,6 +118,7 @@ Step composeStep(const Scene& scene, Model& model) {
     step.add("bonds.gather", true, [](StepContext& c) {
         gatherBondLoads(c.model.incidence.view(), c.model.bonds.view(), c.model.particles.view());
     });
+    addContactPhases(step, scene, model); // effect contact: unbonded contacts (solver/fracture.hpp)
     if (!model.loads.empty()) {
         // After the gather (which overwrites the forces) and before damping (which acts on the total force).
         step.add("loads.pressure", true, [](StepContext& c) {
@@ -125,6 +127,7 @@ Step composeStep(const Scene& scene, Model& model) {
             }
         });
     }
+    addFracturePhases(step, scene, model); // effect fracture: after every force phase (solver/fracture.hpp)
     if (damping && scene.damping.kind == DampingKind::CundallLocal) {
         const double alpha = scene.damping.coefficient;
         step.add("damping.cundall", true,

@@ -279,8 +279,8 @@ TEST(SceneReader, EffectsAreCheckedByName) {
         errorOf("[effects]\nlist = [\"elasticity\", \"plasticity\"]\n[time]\nduration = 1\n"),
         {"q.toml:2:23:", "key 'effects.list'", "unknown effect \"plasticity\"", "known effects: elasticity"});
     expectMentions(
-        errorOf("[effects]\nlist = [\"fracture\"]\n[time]\nduration = 1\n"),
-        {"q.toml:2:9:", "key 'effects.list'", "effect 'fracture' is not available yet in this version"});
+        errorOf("[effects]\nlist = [\"coupling\"]\n[time]\nduration = 1\n"),
+        {"q.toml:2:9:", "key 'effects.list'", "effect 'coupling' is not available yet in this version"});
     expectMentions(errorOf("[effects]\nlist = [\"elasticity\", \"elasticity\"]\n[time]\nduration = 1\n"),
                    {"q.toml:2:23:", "key 'effects.list'", "listed twice", "q.toml:2:9"});
 }

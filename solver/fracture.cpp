@@ -1,0 +1,132 @@
+#include "solver/fracture.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "kernels/parallel.hpp"
+#include "solver/model.hpp"
+#include "solver/step.hpp"
+
+namespace vitrum {
+
+LinearContact contactLaw(const Scene& scene, const Model& model) {
+    const ContactParams& c = scene.contact;
+    double k_n = c.normal_stiffness;
+    if (!(k_n > 0.0)) {
+        // The mean beam axial stiffness E_μ π r_μ²/l₀ (reference note §7.2: fragments then interpenetrate no
+        // more than the bonded network deforms).
+        const Bonds& b = model.bonds;
+        for (std::size_t k = 0; k < b.size(); ++k) {
+            k_n += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.rest_length[k];
+        }
+        if (b.size() > 0) {
+            k_n /= static_cast<double>(b.size());
+        } else { // no bonds: the same for two touching mean spheres, l₀ = 2R̄
+            double mean_radius = 0.0;
+            for (double r : model.particles.radius) {
+                mean_radius += r / static_cast<double>(model.particles.size());
+            }
+            const double r_mu = scene.material.radius_ratio * mean_radius;
+            k_n = scene.material.beam_young * std::numbers::pi * r_mu * r_mu / (2.0 * mean_radius);
+        }
+    }
+    return LinearContact::make(k_n, c.restitution, c.tangential_ratio * k_n, c.friction);
+}
+
+ParticleVolume particleVolume(const Scene& scene) {
+    const FractureParams& f = scene.fracture;
+    if (f.volume == "sphere") {
+        return {1.0};
+    }
+    if (f.packing_fraction > 0.0) {
+        return {f.packing_fraction};
+    }
+    const std::string& lattice = scene.sample.lattice;
+    if (lattice == "sc") {
+        return {std::numbers::pi / 6.0};
+    }
+    if (lattice == "fcc") {
+        return {std::numbers::pi / (3.0 * std::numbers::sqrt2)};
+    }
+    return {scene.sample.packing_fraction};
+}
+
+double contactOmegaSquared(const Scene& scene, const Model& model) {
+    if (!scene.hasEffect("contact") || model.particles.size() == 0) {
+        return 0.0;
+    }
+    const double min_mass = *std::min_element(model.particles.mass.begin(), model.particles.mass.end());
+    return contactOmegaSquaredBound(contactLaw(scene, model), min_mass);
+}
+
+void addContactPhases(Step& step, const Scene& scene, Model& model) {
+    if (!scene.hasEffect("contact")) {
+        return;
+    }
+    double mean_radius = 0.0;
+    for (double r : model.particles.radius) {
+        mean_radius += r / static_cast<double>(model.particles.size());
+    }
+    model.contacts.skin = scene.contact.skin_ratio * mean_radius;
+    model.contacts.stale = true;
+    const LinearContact law = contactLaw(scene, model);
+    step.add("contacts.update", true, [](StepContext& c) {
+        c.model.contacts.update(c.model.particles, c.model.bonds, c.model.incidence);
+    });
+    step.add("contacts.forces", true, [law](StepContext& c) {
+        Model& m = c.model;
+        const ContactPairView pairs = m.contacts.view();
+        computeContactLoads(law, pairs, m.particles.view(), m.particles.initial_position.data(), m.bonds.broken.data(),
+                            c.dt);
+        gatherContactLoads(m.contacts.incidenceView(), pairs, m.particles.view());
+    });
+}
+
+namespace {
+void stressOf(Model& m, const ParticleVolume& volume) {
+    const ContactPairView pairs = m.contacts.size() > 0 ? m.contacts.view() : ContactPairView{};
+    const IncidenceView pair_incidence = m.contacts.size() > 0 ? m.contacts.incidenceView() : IncidenceView{};
+    computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), pair_incidence, pairs,
+                        m.point_forces.view(), volume, m.particles.stress.data());
+}
+} // namespace
+
+void computeStress(const Scene& scene, Model& model) {
+    model.particles.enableFracture();
+    stressOf(model, particleVolume(scene));
+}
+
+void addFracturePhases(Step& step, const Scene& scene, Model& model) {
+    if (!scene.hasEffect("fracture")) {
+        return;
+    }
+    model.particles.enableFracture();
+    const HydrostaticRelease law{scene.fracture.hydrostatic_strength};
+    const long every = scene.fracture.check_every;
+    const ParticleVolume volume = particleVolume(scene);
+    // The step index is the time over Δt (the driver sets time = n Δt), so a restart checks on the same steps.
+    step.add("fracture.release", false, [law, every, volume](StepContext& c) {
+        const long long n = std::llround(c.time / c.dt);
+        if (n % every != 0) {
+            return;
+        }
+        Model& m = c.model;
+        stressOf(m, volume);
+        const BondBreakView bonds{m.bonds.size(), m.bonds.i.data(), m.bonds.j.data(), m.bonds.broken.data()};
+        applyHydrostaticRelease(law, m.particles.damageView(), m.incidence.view(), bonds, n);
+    });
+}
+
+DamageTotals damageTotals(const Model& model) {
+    DamageTotals t;
+    for (std::uint8_t b : model.bonds.broken) {
+        t.broken_bonds += b ? 1 : 0;
+    }
+    for (std::uint8_t r : model.particles.released) {
+        t.released += r ? 1 : 0;
+    }
+    return t;
+}
+
+} // namespace vitrum
