@@ -226,9 +226,9 @@ std::vector<double> jitteredBoxCloud(const Vec3& lo, const Vec3& hi, std::array<
 
 namespace {
 
-std::vector<double> indentationNodes(const IndentationDomainSpec& s, double h) {
+std::vector<double> indentationNodes(const IndentationDomainSpec& s, int cells) {
     const double half = 0.5 * s.box;
-    const int nxy = std::max(2, static_cast<int>(std::lround(s.box / h)));
+    const int nxy = cells;
     const int nz = nxy;
     const double hg = s.box / nxy;
     std::vector<double> grid = jitteredBoxCloud(Vec3(-half, -half, -s.box), Vec3(half, half, 0.0), {nxy, nxy, nz},
@@ -270,15 +270,21 @@ NodeCloud indentationDomainCloud(const IndentationDomainSpec& spec) {
     }
     const double pi = std::numbers::pi;
     const double volume = spec.box * spec.box * spec.box - 2.0 / 3.0 * pi * std::pow(spec.radius, 3);
-    double h = std::cbrt(volume / static_cast<double>(spec.nodes));
+    // Grid cells per side: the count whose cloud is closest to the target, searched about the estimate.
+    const int estimate = static_cast<int>(std::lround(spec.box / std::cbrt(volume / static_cast<double>(spec.nodes))));
     NodeCloud cloud;
-    for (int pass = 0; pass < 3; ++pass) {
-        cloud.position = indentationNodes(spec, h);
-        const double count = static_cast<double>(cloud.position.size() / 3);
-        h *= std::cbrt(count / static_cast<double>(spec.nodes));
+    int best = -1;
+    double best_gap = 0.0;
+    for (int cells = std::max(2, estimate - 2); cells <= estimate + 2; ++cells) {
+        const double count = static_cast<double>(indentationNodes(spec, cells).size() / 3);
+        const double gap = std::abs(count - static_cast<double>(spec.nodes));
+        if (best < 0 || gap < best_gap) {
+            best = cells;
+            best_gap = gap;
+        }
     }
-    cloud.position = indentationNodes(spec, h);
-    cloud.spacing = spec.box / std::max(2, static_cast<int>(std::lround(spec.box / h)));
+    cloud.position = indentationNodes(spec, best);
+    cloud.spacing = spec.box / best;
     const double r = spec.radius;
     cloud.inside = [r](const Vec3& centroid) { return centroid.norm() > r; };
     return cloud;
