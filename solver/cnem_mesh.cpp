@@ -311,6 +311,16 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
     for (std::size_t c = 0; c < cells; ++c) {
         if (m.cell_kept[c]) kept_cells.push_back(static_cast<std::int32_t>(c));
     }
+    // Tet order for the force kernel's locality: by smallest, then next vertex id (the node order is the
+    // cloud's, spatially sorted by its builder), instead of CGAL's memory order.
+    auto sortedVertices = [&](std::int32_t c) {
+        std::array<std::int32_t, 4> v{};
+        for (std::size_t k = 0; k < 4; ++k) v[k] = m.cell_vertex[4 * static_cast<std::size_t>(c) + k];
+        std::sort(v.begin(), v.end());
+        return v;
+    };
+    std::stable_sort(kept_cells.begin(), kept_cells.end(),
+                     [&](std::int32_t a, std::int32_t b) { return sortedVertices(a) < sortedVertices(b); });
     const std::size_t tets = kept_cells.size();
     m.tet.resize(4 * tets);
     m.tet_volume.resize(tets);
