@@ -473,6 +473,36 @@ ShapeValues laplaceShapeFunctions(const CnemMesh& mesh, const Vec3& x, std::int3
     return out;
 }
 
+ShapeTable evaluateShapeFunctions(const CnemMesh& mesh, const std::vector<double>& points) {
+    const std::size_t count = points.size() / 3;
+    constexpr std::size_t kPointBlock = 256;
+    const std::size_t blocks = (count + kPointBlock - 1) / kPointBlock;
+    std::vector<ShapeValues> result(count);
+    parallelFor("cnem.shape_functions", blocks, [&](std::size_t b) {
+        std::int32_t hint = -1;
+        const std::size_t end = std::min(count, (b + 1) * kPointBlock);
+        for (std::size_t p = b * kPointBlock; p < end; ++p) {
+            result[p] = laplaceShapeFunctions(mesh, load3(points.data(), p), hint);
+            if (result[p].cell >= 0) hint = result[p].cell;
+        }
+    });
+    ShapeTable t;
+    t.offset.assign(count + 1, 0);
+    t.inside.resize(count);
+    t.visibility_ok.resize(count);
+    for (std::size_t p = 0; p < count; ++p) {
+        const ShapeValues& r = result[p];
+        t.inside[p] = r.inside ? 1 : 0;
+        t.visibility_ok[p] = r.visibility_ok ? 1 : 0;
+        if (r.inside && r.visibility_ok) {
+            t.node.insert(t.node.end(), r.node.begin(), r.node.end());
+            t.value.insert(t.value.end(), r.value.begin(), r.value.end());
+        }
+        t.offset[p + 1] = static_cast<std::int32_t>(t.node.size());
+    }
+    return t;
+}
+
 VisibilityReport checkSphereVisibility(const CnemMesh& mesh, const Vec3& centre, double radius,
                                        const std::vector<double>& samples, double tol) {
     VisibilityReport r;

@@ -82,6 +82,21 @@ struct ShapeValues {
 /// `hint` (a cell index, or −1). Outside the hull or in a dropped cell: inside = false, no values.
 ShapeValues laplaceShapeFunctions(const CnemMesh& mesh, const Vec3& x, std::int32_t hint = -1);
 
+/// Shape functions at many points (e.g. the bridging particles of a coupling), CSR by point: the values of
+/// point p are node[offset[p] .. offset[p+1]) with value[...]; a point outside the domain (or whose conflict
+/// zone violates the visibility constraint: `visibility_ok` false) has an empty row.
+struct ShapeTable {
+    std::vector<std::int32_t> offset; ///< points + 1
+    std::vector<std::int32_t> node;
+    std::vector<double> value;
+    std::vector<std::uint8_t> inside;        ///< per point
+    std::vector<std::uint8_t> visibility_ok; ///< per point
+};
+
+/// Laplace shape functions at the points (3 per point, µm). Parallel over fixed blocks of points, each block
+/// walking from the previous point's cell: the result does not depend on the thread count.
+ShapeTable evaluateShapeFunctions(const CnemMesh& mesh, const std::vector<double>& points);
+
 /// Result of the bowl check (CNEM-9).
 struct VisibilityReport {
     std::size_t dropped_cells = 0;             ///< finite cells outside the domain

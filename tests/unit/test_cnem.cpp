@@ -69,6 +69,46 @@ TEST(CnemShape, InterpolatesAtNodesAndRejectsOutside) {
     EXPECT_FALSE(laplaceShapeFunctions(mesh, Vec3(-0.1, 1.0, 1.0)).inside);
 }
 
+// The batch evaluation (coupling API) gives the same values as single queries, for 1 and 2 threads alike,
+// and empty rows outside the domain.
+TEST(CnemShape, BatchEvaluationMatchesSingleQueries) {
+    const CnemMesh mesh = cubeMesh(5);
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<double> uni(-0.1, kL + 0.1);
+    std::vector<double> points(3 * 1000);
+    for (double& x : points) x = uni(rng);
+    const int before = threadCount();
+    setThreadCount(1);
+    const ShapeTable one = evaluateShapeFunctions(mesh, points);
+    setThreadCount(2);
+    const ShapeTable two = evaluateShapeFunctions(mesh, points);
+    setThreadCount(before);
+    ASSERT_EQ(one.value.size(), two.value.size());
+    EXPECT_EQ(one.node, two.node);
+    EXPECT_EQ(std::memcmp(one.value.data(), two.value.data(), one.value.size() * sizeof(double)), 0);
+    std::size_t outside = 0;
+    for (std::size_t p = 0; p < 1000; ++p) {
+        const Vec3 x = load3(points.data(), p);
+        const bool in = x.minCoeff() >= 0.0 && x.maxCoeff() <= kL;
+        EXPECT_EQ(one.inside[p] != 0, in);
+        if (!in) {
+            ++outside;
+            EXPECT_EQ(one.offset[p], one.offset[p + 1]);
+            continue;
+        }
+        const ShapeValues s = laplaceShapeFunctions(mesh, x);
+        ASSERT_EQ(static_cast<std::size_t>(one.offset[p + 1] - one.offset[p]), s.node.size());
+        double sum = 0.0;
+        for (std::size_t k = 0; k < s.node.size(); ++k) {
+            EXPECT_EQ(one.node[static_cast<std::size_t>(one.offset[p]) + k], s.node[k]);
+            EXPECT_NEAR(one.value[static_cast<std::size_t>(one.offset[p]) + k], s.value[k], 1e-14);
+            sum += s.value[k];
+        }
+        EXPECT_NEAR(sum, 1.0, 1e-12);
+    }
+    EXPECT_GT(outside, 0u);
+}
+
 // CNEM-2: Σ_j b̃_j(x_L) ⊗ x_j = I per cell (≤ 1e-10 absolute on b·x, dimensionless; the SCNI quadrature is exact
 // for the linear part, §3.4, measured 3e-13), Σ_j b̃_j = 0, and Σ V_L = V_Ω to 1e-12 relative.
 TEST(CnemScni, ConsistencyAndVolumePartition) {
