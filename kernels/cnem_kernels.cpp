@@ -121,6 +121,16 @@ void cnemKick(const CnemStateView& s, double half_dt) {
     });
 }
 
+void cnemKickDrift(const CnemStateView& s, double half_dt, double dt) {
+    parallelFor("cnem.kick_drift", s.nodes, [&](std::size_t i) {
+        const double inv_m = 1.0 / s.mass[i];
+        for (std::size_t a = 3 * i; a < 3 * i + 3; ++a) {
+            s.velocity[a] = s.fixed[a] ? s.prescribed_velocity[a] : s.velocity[a] + half_dt * s.force[a] * inv_m;
+            s.displacement[a] += dt * s.velocity[a];
+        }
+    });
+}
+
 void cnemDrift(const CnemStateView& s, double dt) {
     parallelFor("cnem.drift", s.nodes, [&](std::size_t i) {
         for (std::size_t a = 3 * i; a < 3 * i + 3; ++a) s.displacement[a] += dt * s.velocity[a];

@@ -90,6 +90,8 @@ struct CnemStateView {
 
 /// Half kick v += (Δt/2) f/m on free DOFs; fixed DOFs take the prescribed velocity.
 void cnemKick(const CnemStateView& s, double half_dt);
+/// Half kick then drift in one pass (the first half of a kick–drift–kick step).
+void cnemKickDrift(const CnemStateView& s, double half_dt, double dt);
 /// Drift u += Δt v.
 void cnemDrift(const CnemStateView& s, double dt);
 /// Kinetic energy ½ Σ m v² (nJ), deterministic reduction.

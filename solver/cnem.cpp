@@ -75,8 +75,7 @@ double computeCnemForces(CnemModel& model, bool want_energy) {
 
 void stepCnem(CnemModel& model, double dt) {
     const CnemStateView s = model.state();
-    cnemKick(s, 0.5 * dt);
-    cnemDrift(s, dt);
+    cnemKickDrift(s, 0.5 * dt, dt);
     computeCnemForces(model);
     cnemKick(s, 0.5 * dt);
 }
