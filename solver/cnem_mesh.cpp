@@ -45,9 +45,8 @@ struct ConflictScratch {
     std::vector<std::uint32_t> stamp;
     std::uint32_t epoch = 0;
     std::vector<std::int32_t> stack;
-    std::vector<std::pair<std::int32_t, Vec3>> vertex; // (natural neighbour, Voronoi vertex of x's cell)
-    std::vector<double> angle;
-    std::vector<int> order;
+    std::vector<Vec3> centre;                          // per cavity boundary facet: its Voronoi vertex
+    std::vector<std::pair<std::uint64_t, std::int32_t>> edge; // (tail << 32 | head, facet) per directed edge
 
     void begin(std::size_t cells) {
         if (stamp.size() < cells) stamp.assign(cells, 0);
@@ -57,7 +56,8 @@ struct ConflictScratch {
         }
         ++epoch;
         stack.clear();
-        vertex.clear();
+        centre.clear();
+        edge.clear();
     }
     std::uint32_t conflict() const { return 2 * epoch; }
     std::uint32_t clear() const { return 2 * epoch + 1; }
@@ -65,10 +65,12 @@ struct ConflictScratch {
 
 thread_local ConflictScratch tls_scratch;
 
+/// Strictly inside the circumsphere of a (positively oriented) cell. The oriented predicate has EPICK's static
+/// filter (side_of_bounded_sphere falls back to interval arithmetic every time: 3× slower here).
 bool inConflict(const CnemMesh& m, std::int32_t cell, const Point& q) {
     const std::int32_t* v = m.cell_vertex.data() + 4 * static_cast<std::size_t>(cell);
-    return CGAL::side_of_bounded_sphere(pointOf(m, v[0]), pointOf(m, v[1]), pointOf(m, v[2]), pointOf(m, v[3]),
-                                        q) == CGAL::ON_BOUNDED_SIDE;
+    return CGAL::side_of_oriented_sphere(pointOf(m, v[0]), pointOf(m, v[1]), pointOf(m, v[2]), pointOf(m, v[3]),
+                                         q) == CGAL::ON_POSITIVE_SIDE;
 }
 
 /// Circumcentre of the tetrahedron (x, a, b, c), computed relative to x.
@@ -80,10 +82,13 @@ Vec3 circumcentre(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c) {
 }
 
 /// Laplace coordinates of x (strictly inside `start`, a cell known to contain it) from the Bowyer–Watson
-/// cavity of x: each cavity boundary facet (a, b, c) gives the Voronoi vertex circumcentre(x, a, b, c) of x's
-/// would-be cell, shared by the Voronoi facets between x and a, b, c. The facet between x and node P is the
-/// convex polygon of its vertices (perpendicular to xP); φ_P = (s_P/h_P)/Σ(s/h), s the facet area, h = |x − P|
-/// (§3.1). Returns false when the cavity reaches a dropped cell (visibility constraint, §3.2).
+/// cavity of x (§3.1). Each cavity boundary facet f = (a, b, c) gives the Voronoi vertex c_f =
+/// circumcentre(x, a, b, c) of x's would-be cell. The Voronoi facet between x and node P is the polygon whose
+/// edges are c_f1 c_f2 for the cavity edges (P, R), f1 and f2 the two boundary facets sharing that edge. With
+/// every facet oriented the same way (the cavity side positive), the edge P→R runs forward in exactly one of
+/// them (f1); Σ over P's edges of ½ n·((c_f1 − o) × (c_f2 − o)) is then the signed area s_P of the polygon (o
+/// any point of its plane, n = (P − x)/|P − x|). φ_P = (s_P/h_P)/Σ(s/h), h_P = |x − P|. Returns false when the
+/// cavity reaches a dropped cell (visibility constraint, §3.2).
 bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::vector<std::int32_t>& node,
                    std::vector<double>& value) {
     ConflictScratch& s = tls_scratch;
@@ -98,10 +103,8 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
         const std::size_t c4 = 4 * static_cast<std::size_t>(c);
         for (int i = 0; i < 4; ++i) {
             const std::int32_t n = m.cell_neighbour[c4 + static_cast<std::size_t>(i)];
-            bool boundary = false;
-            if (n < 0) {
-                boundary = true; // a hull facet: x is inside the hull, so the infinite cell is not in conflict
-            } else {
+            if (n >= 0) {
+                // (a hull facet, n < 0, always bounds the cavity: x is inside the hull)
                 std::uint32_t& st = s.stamp[static_cast<std::size_t>(n)];
                 if (st == s.conflict()) continue;
                 if (st != s.clear()) {
@@ -113,59 +116,49 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
                     }
                     st = s.clear();
                 }
-                boundary = true;
             }
-            if (boundary) {
-                std::array<std::int32_t, 3> f{};
-                int k = 0;
-                for (int j = 0; j < 4; ++j) {
-                    if (j != i) f[static_cast<std::size_t>(k++)] = m.cell_vertex[c4 + static_cast<std::size_t>(j)];
-                }
-                const Vec3 cc = circumcentre(x, nodeAt(m, f[0]), nodeAt(m, f[1]), nodeAt(m, f[2]));
-                for (std::int32_t p : f) s.vertex.emplace_back(p, cc);
+            // Boundary facet: face i of the positively oriented cell c, its vertices ordered so that the
+            // opposite vertex (the cavity side) is on the positive side: (i+1, i+2, i+3) for odd i, swapped
+            // last two for even i.
+            std::int32_t f[3] = {m.cell_vertex[c4 + static_cast<std::size_t>((i + 1) & 3)],
+                                 m.cell_vertex[c4 + static_cast<std::size_t>((i + 2) & 3)],
+                                 m.cell_vertex[c4 + static_cast<std::size_t>((i + 3) & 3)]};
+            if ((i & 1) == 0) std::swap(f[1], f[2]);
+            const std::int32_t id = static_cast<std::int32_t>(s.centre.size());
+            s.centre.push_back(circumcentre(x, nodeAt(m, f[0]), nodeAt(m, f[1]), nodeAt(m, f[2])));
+            for (int k = 0; k < 3; ++k) {
+                const std::uint64_t tail = static_cast<std::uint32_t>(f[k]);
+                const std::uint64_t head = static_cast<std::uint32_t>(f[(k + 1) % 3]);
+                s.edge.emplace_back((tail << 32) | head, id);
             }
         }
     }
-    std::stable_sort(s.vertex.begin(), s.vertex.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::sort(s.edge.begin(), s.edge.end());
     node.clear();
     value.clear();
     double total = 0.0;
-    for (std::size_t begin = 0; begin < s.vertex.size();) {
+    for (std::size_t begin = 0; begin < s.edge.size();) {
+        const std::uint64_t tail = s.edge[begin].first >> 32;
         std::size_t end = begin;
-        while (end < s.vertex.size() && s.vertex[end].first == s.vertex[begin].first) ++end;
-        const std::int32_t p = s.vertex[begin].first;
+        while (end < s.edge.size() && (s.edge[end].first >> 32) == tail) ++end;
+        const std::int32_t p = static_cast<std::int32_t>(tail);
         const Vec3 d = nodeAt(m, p) - x;
         const double h = d.norm();
         const Vec3 axis = d / h;
-        Vec3 mean = Vec3::Zero();
-        for (std::size_t k = begin; k < end; ++k) mean += s.vertex[k].second;
-        mean /= static_cast<double>(end - begin);
-        // An in-plane frame: the coordinate axis least aligned with the facet normal, made orthogonal.
-        Vec3 e = Vec3::UnitX();
-        if (std::abs(axis.y()) < std::abs(axis[0]) && std::abs(axis.y()) <= std::abs(axis.z())) e = Vec3::UnitY();
-        else if (std::abs(axis.z()) < std::abs(axis[0]) && std::abs(axis.z()) < std::abs(axis.y())) e = Vec3::UnitZ();
-        const Vec3 u = axis.cross(e).normalized();
-        const Vec3 w = axis.cross(u);
-        const std::size_t cnt = end - begin;
-        s.angle.resize(cnt);
-        s.order.resize(cnt);
-        for (std::size_t k = 0; k < cnt; ++k) {
-            const Vec3 r = s.vertex[begin + k].second - mean;
-            s.angle[k] = std::atan2(r.dot(w), r.dot(u));
-            s.order[k] = static_cast<int>(k);
-        }
-        std::sort(s.order.begin(), s.order.end(), [&](int a, int b) {
-            return s.angle[static_cast<std::size_t>(a)] < s.angle[static_cast<std::size_t>(b)] ||
-                   (s.angle[static_cast<std::size_t>(a)] == s.angle[static_cast<std::size_t>(b)] && a < b);
-        });
+        const Vec3 origin = x + 0.5 * d;
         double area2 = 0.0;
-        for (std::size_t k = 0; k < cnt; ++k) {
-            const Vec3 r0 = s.vertex[begin + static_cast<std::size_t>(s.order[k])].second - mean;
-            const Vec3 r1 = s.vertex[begin + static_cast<std::size_t>(s.order[(k + 1) % cnt])].second - mean;
-            area2 += axis.dot(r0.cross(r1));
+        for (std::size_t k = begin; k < end; ++k) {
+            const std::uint64_t head = s.edge[k].first & 0xffffffffu;
+            const std::uint64_t reverse = (head << 32) | tail;
+            const auto it = std::lower_bound(s.edge.begin(), s.edge.end(), std::make_pair(reverse, std::int32_t{-1}));
+            if (it == s.edge.end() || it->first != reverse) {
+                throw std::logic_error("CNEM cavity surface is not closed");
+            }
+            const Vec3 c1 = s.centre[static_cast<std::size_t>(s.edge[k].second)] - origin;
+            const Vec3 c2 = s.centre[static_cast<std::size_t>(it->second)] - origin;
+            area2 += axis.dot(c1.cross(c2));
         }
-        const double weight = 0.5 * area2 / h;
+        const double weight = 0.5 * std::abs(area2) / h;
         node.push_back(p);
         value.push_back(weight);
         total += weight;
