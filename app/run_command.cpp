@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
+#include "app/indentation_report.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
 #include "io/damage_fields.hpp"
@@ -28,6 +29,7 @@
 #include "io/units.hpp"
 #include "io/vtk_writer.hpp"
 #include "kernels/parallel.hpp"
+#include "kernels/strain.hpp"
 #include "kernels/timestep.hpp"
 #include "solver/errors.hpp"
 #include "solver/frequency.hpp"
@@ -91,6 +93,27 @@ public:
             if (f == "angular_velocity") views.push_back({"angular_velocity_rad_per_ns", 3, p.angular_velocity.data()});
             if (f == "torque") views.push_back({"torque_mN_um", 3, p.torque.data()});
             if (f == "coordination") views.push_back({"coordination", 1, coordination_.data()});
+            if (f == "densification") {
+                // Residual volumetric strain of the bonded neighbourhood (kernels/strain.hpp), the density
+                // change it implies, and the slider's own measure (−3 × mean bond slip) when densifying.
+                volumetric_.assign(p.size(), 0.0);
+                density_change_.assign(p.size(), 0.0);
+                volumetricStrain(model.incidence.view(), model.bonds.i.data(), model.bonds.j.data(),
+                                 p.initial_position.data(), p.position.data(), volumetric_.data());
+                for (std::size_t i = 0; i < p.size(); ++i) {
+                    density_change_[i] = -volumetric_[i] / (1.0 + volumetric_[i]);
+                }
+                views.push_back({"volumetric_strain", 1, volumetric_.data()});
+                views.push_back({"density_change", 1, density_change_.data()});
+                if (model.bonds.densificationEnabled()) {
+                    slider_.assign(p.size(), 0.0);
+                    sliderVolumetricStrain(model.incidence.view(), model.bonds.slip.data(), slider_.data());
+                    views.push_back({"slider_volumetric_strain", 1, slider_.data()});
+                }
+            }
+            if (f == "tool" && model.indenter) {
+                views.push_back({"tool_contact_force_mN", 3, model.indenter->contact_force.data()});
+            }
             if (f == "damage" || f == "stress") appendDamageFields(f, p, damage_, views); // io/damage_fields.hpp
         }
         char name[64];
@@ -106,6 +129,7 @@ private:
     std::vector<std::string> fields_;
     std::vector<double> coordination_;
     std::vector<double> displacement_;
+    std::vector<double> volumetric_, density_change_, slider_;
     DamageFieldBuffers damage_;
 };
 
@@ -148,6 +172,10 @@ int runScene(const RunOptions& options) {
     const FrequencyEstimate frequency = highestFrequency(model);
     CriticalTimeStep critical;
     critical.omega = frequency.omega;
+    if (model.indenter) {
+        // The tool contact adds k_n to a particle's diagonal stiffness: ω² ≤ ω_bonds² + k_n/m_min (Weyl).
+        critical.omega = std::sqrt(frequency.omega * frequency.omega + toolContactOmegaSquared(*model.indenter, model));
+    }
     // Contacts (effect contact) add at most contactOmegaSquared to ω_max² (Weyl's inequality; solver/fracture.hpp).
     critical.omega = std::sqrt(critical.omega * critical.omega + contactOmegaSquared(scene, model));
     critical.dt = critical.omega > 0.0 ? 2.0 / critical.omega : 0.0;
@@ -191,6 +219,23 @@ int runScene(const RunOptions& options) {
         for (std::size_t k = 0; k < scene.effects.size(); ++k) {
             log << (k ? ", " : "") << scene.effects[k];
         }
+        if (model.indenter) {
+            const Indenter& ind = *model.indenter;
+            log << "\n  indenter   " << scene.indenter.kind << " tool, contact k_n = " << ind.law.stiffness * 1e3
+                << " N/m, damping ratio " << ind.law.damping_ratio << ", friction " << ind.law.friction
+                << "; tip starts at z = " << ind.tip.z() << " um, free surface at z = " << ind.surface_level
+                << " um\n  stages     ";
+            for (std::size_t k = 0; k < ind.stages.size(); ++k) {
+                const StageParams& st = ind.stages[k];
+                log << (k ? " -> " : "") << stageKindName(st.kind);
+                if (st.kind == StageKind::Load || st.kind == StageKind::Unload) {
+                    log << " (" << st.speed * 1e3 << " m/s to " << st.until_force * kNewtonPerMilliNewton << " N)";
+                } else if (st.kind == StageKind::Hold) {
+                    log << " (" << st.duration << " ns)";
+                }
+            }
+            log << "; at most " << steps << " steps (time.duration)";
+        }
         log << "\n  step       " << step.describe() << "\n  threads    " << threadCount() << "\n  output     "
             << out.string() << "\n";
     }
@@ -228,6 +273,9 @@ int runScene(const RunOptions& options) {
             columns.push_back(c);
         }
     }
+    if (model.indenter) {
+        columns.insert(columns.end(), {"stage", "tool_depth_um", "tool_force_N", "tool_contacts"});
+    }
     const bool fracture = scene.hasEffect("fracture");
     if (fracture) {
         columns.insert(columns.end(), {"broken_bonds", "released_particles"});
@@ -261,6 +309,11 @@ int runScene(const RunOptions& options) {
             uniaxial.push_back(u);
             row.insert(row.end(), {u.stress, u.strain, u.extensometer, u.lateral});
         }
+        if (model.indenter) {
+            const Indenter& ind = *model.indenter;
+            row.insert(row.end(), {static_cast<double>(ind.stage), ind.depth(), ind.force() * kNewtonPerMilliNewton,
+                                   static_cast<double>(ind.reaction.contacts)});
+        }
         if (fracture) {
             const DamageTotals d = damageTotals(model);
             row.insert(row.end(), {static_cast<double>(d.broken_bonds), static_cast<double>(d.released)});
@@ -278,6 +331,11 @@ int runScene(const RunOptions& options) {
         for (std::size_t k = 0; k < probed.size(); ++k) {
             s << "  F_" << model.sets[probed[k]].name << " " << last.reaction[k].norm() * kNewtonPerMilliNewton << " N";
         }
+        if (model.indenter) {
+            const Indenter& ind = *model.indenter;
+            s << "  " << ind.stageName() << ": depth " << ind.depth() << " um, F " << ind.force() * kNewtonPerMilliNewton
+              << " N";
+        }
         return s.str();
     };
 
@@ -286,6 +344,12 @@ int runScene(const RunOptions& options) {
     long first = 1;
     if (!options.restart.empty()) {
         const CheckpointMeta meta = readCheckpoint(options.restart, model.particles, model.bonds);
+        if (model.indenter) {
+            if (meta.controller.empty()) {
+                throw InputError(options.restart + ": checkpoint without the indenter's controller state");
+            }
+            model.indenter->restore(meta.controller);
+        }
         if (meta.scene_sha256 != scene_sha256) {
             throw InputError(options.restart + ": checkpoint of another scene (its resolved scene hash " +
                              meta.scene_sha256.substr(0, 12) + "... differs from " + scene_sha256.substr(0, 12) +
@@ -317,7 +381,8 @@ int runScene(const RunOptions& options) {
     const std::string checkpoint_path = (out / "state.h5").string();
     auto checkpoint = [&](long n) {
         writeCheckpoint(checkpoint_path, model.particles, model.bonds, model.contacts,
-                        CheckpointMeta{n, ctx.time, dt, scene.name, scene_sha256, kVersion});
+                        CheckpointMeta{n, ctx.time, dt, scene.name, scene_sha256, kVersion,
+                                       model.indenter ? model.indenter->state() : std::vector<double>{}});
     };
     const long watchdog_every = std::min(scene.output.every, 50L);
     ProgressReporter progress(log, verbose && ::isatty(STDOUT_FILENO), steps, verbose ? 10.0 : 1e30);
@@ -332,9 +397,19 @@ int runScene(const RunOptions& options) {
         }
     } restore_signals{previous_int, previous_term};
     const auto loop_start = Clock::now();
+    long last_step = first - 1;
     for (long n = first; n <= steps; ++n) {
         ctx.time = static_cast<double>(n) * dt;
         step.advance(ctx);
+        last_step = n;
+        if (model.indenter && model.indenter->done()) {
+            checkStability(kineticEnergy(model.particles.view()), dt, critical.dt, min_radius, n, ctx.time);
+            record(n, ctx.time);
+            if (map_every > 0) {
+                maps.write(model, n, ctx.time);
+            }
+            break;
+        }
         if (n % watchdog_every == 0 || n == steps) {
             checkStability(kineticEnergy(model.particles.view()), dt, critical.dt, min_radius, n, ctx.time);
         }
@@ -366,10 +441,11 @@ int runScene(const RunOptions& options) {
                                  checkpoint_path + ": continue with --restart " + checkpoint_path);
         }
     }
-    checkpoint(steps);
+    checkpoint(last_step);
     if (verbose) {
         progress.finish();
     }
+    const bool stages_complete = !model.indenter || model.indenter->done();
     series.flush();
     const double loop_seconds = std::chrono::duration<double>(Clock::now() - loop_start).count();
 
@@ -427,6 +503,11 @@ int runScene(const RunOptions& options) {
         }
     }
 
+    if (model.indenter) {
+        measureIndentation(scene, model, mean_radius, out, measurements);
+        measurements["stages_complete"] = stages_complete;
+    }
+
     const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
     nlohmann::ordered_json summary;
     summary["vitrum_version"] = kVersion;
@@ -443,7 +524,8 @@ int runScene(const RunOptions& options) {
     }
     summary["mean_radius_um"] = mean_radius;
     summary["min_radius_um"] = min_radius;
-    summary["steps"] = steps;
+    summary["steps"] = last_step;
+    summary["max_steps"] = steps;
     summary["dt_ns"] = dt;
     summary["dt_critical_ns"] = critical.dt;
     summary["omega_max_rad_per_ns"] = {{"estimate", frequency.omega},
@@ -457,7 +539,7 @@ int runScene(const RunOptions& options) {
     summary["threads"] = threadCount();
     summary["wall_time_s"] = wall;
     summary["loop_time_s"] = loop_seconds;
-    summary["bond_updates_per_s"] = static_cast<double>(model.bonds.size()) * static_cast<double>(steps) / loop_seconds;
+    summary["bond_updates_per_s"] = static_cast<double>(model.bonds.size()) * static_cast<double>(last_step - first + 1) / loop_seconds;
     nlohmann::ordered_json phases;
     double phase_total = 0.0;
     for (const Phase& ph : step.phases()) {
@@ -482,9 +564,21 @@ int runScene(const RunOptions& options) {
                 << std::defaultfloat;
         }
         log << "  measurements " << measurements.dump() << "\n";
+        if (model.indenter) {
+            printImprintTable(log, scene, measurements);
+        }
+    }
+    if (model.indenter) {
+        plotIndentation(log, out, verbose);
     }
     log << "vitrum: done in " << std::setprecision(3) << wall << " s; wrote " << (out / "summary.json").string()
         << ", series.csv, maps.pvd (" << (map_every > 0 ? "VTU maps" : "no maps") << "), state.h5, resolved_scene.toml\n";
+    if (!stages_complete) {
+        throw RuntimeFailure("time.duration (" + std::to_string(scene.time.duration) + " ns) ran out in stage '" +
+                             model.indenter->stageName() + "' at depth " + std::to_string(model.indenter->depth()) +
+                             " um and tool force " + std::to_string(model.indenter->force() * kNewtonPerMilliNewton) +
+                             " N; the results written are those of an unfinished indentation: raise time.duration");
+    }
     return 0;
 }
 

@@ -181,6 +181,19 @@ public:
         }
     }
 
+    void vector(hid_t where, const char* name, const std::vector<double>& values) const {
+        const hsize_t dims[1] = {values.size()};
+        Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
+        Handle dataset(space.valid() ? H5Dcreate2(where, name, H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT,
+                                                  H5P_DEFAULT, H5P_DEFAULT)
+                                     : H5I_INVALID_HID,
+                       H5Dclose);
+        if (!dataset.valid() || (!values.empty() && H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
+                                                             H5P_DEFAULT, values.data()) < 0)) {
+            fail(std::string("cannot write dataset '/") + name + "'");
+        }
+    }
+
     template <class Store> void store(hid_t file, const std::string& group_name, const Store& store) const {
         Handle group(H5Gcreate2(file, group_name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
         if (!group.valid()) {
@@ -293,6 +306,32 @@ public:
         return value;
     }
 
+    /// A 1D double dataset `name` of `where`, at most max_count long.
+    std::vector<double> vector(hid_t where, const char* name, std::uintmax_t max_count) const {
+        const std::string path = std::string("/") + name;
+        if (H5Lexists(where, name, H5P_DEFAULT) <= 0) {
+            fail("missing dataset '" + path + "'");
+        }
+        Handle dataset(H5Dopen2(where, name, H5P_DEFAULT), H5Dclose);
+        if (!dataset.valid()) {
+            fail("cannot open dataset '" + path + "'");
+        }
+        Handle type(H5Dget_type(dataset.get()), H5Tclose);
+        Handle space(H5Dget_space(dataset.get()), H5Sclose);
+        hsize_t dims[1] = {0};
+        if (!type.valid() || !storedTypeMatches<double>(type.get()) || !space.valid() ||
+            H5Sget_simple_extent_ndims(space.get()) != 1 || H5Sget_simple_extent_dims(space.get(), dims, nullptr) != 1 ||
+            dims[0] > max_count) {
+            fail("dataset '" + path + "' is not a 1D array of doubles");
+        }
+        std::vector<double> values(dims[0]);
+        if (!values.empty() &&
+            H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
+            fail("cannot read dataset '" + path + "' (truncated or corrupt file?)");
+        }
+        return values;
+    }
+
     /// Reads every field of `store` from group `group_name`; `max_count` bounds the stored count (the file
     /// size, since every entry takes at least one byte) so a corrupt count cannot ask for absurd memory.
     template <class Store>
@@ -383,6 +422,7 @@ void writeCheckpoint(const std::string& path, const Particles& particles, const 
         writer.store(root, "particles", particles);
         writer.store(root, "bonds", bonds);
         writer.store(root, "contacts", meta.contacts);
+        writer.vector(root, "controller", meta.controller);
         if (H5Fflush(root, H5F_SCOPE_GLOBAL) < 0 || !file.close()) {
             writer.fail("cannot flush and close '" + tmp + "'");
         }
@@ -467,6 +507,7 @@ CheckpointMeta readCheckpoint(const std::string& path, Particles& particles, Bon
             }
         }
     }
+    meta.controller = reader.vector(root, "controller", file_size);
 
     const auto n_particles = static_cast<std::int64_t>(p.size());
     for (std::size_t k = 0; k < b.size(); ++k) {

@@ -6,6 +6,7 @@
 // (kernels/views.hpp), native types, contiguous datasets:
 //   /                 attributes: format_version (int32), vitrum_version (string), scene_name (string),
 //                     scene_sha256 (string, 64 hex), step (int64), time (double, ns), dt (double, ns)
+//   /controller       dataset (k) of doubles: the stage controller's state (solver/indentation.hpp), k ≥ 0
 //   /particles        attribute count (int64); one dataset per field, shape (count, components)
 //   /bonds            attribute count (int64); one dataset per field, shape (count, components)
 // The incidence (CSR) is not stored: the caller rebuilds it from the bonds (Incidence::build).
@@ -14,6 +15,7 @@
 #include <concepts>
 #include <string>
 #include <type_traits>
+#include <vector>
 
 #include "solver/bonds.hpp"
 #include "solver/contacts.hpp"
@@ -22,7 +24,8 @@
 namespace vitrum {
 
 /// Bumped whenever the layout or the meaning of a stored field changes; readers refuse other versions.
-inline constexpr int kCheckpointFormatVersion = 1;
+/// 2: bonds gained the densification state (slip, reference_strain); the root gained /controller.
+inline constexpr int kCheckpointFormatVersion = 2;
 
 struct CheckpointMeta {
     long long step = 0; ///< steps completed
@@ -31,6 +34,7 @@ struct CheckpointMeta {
     std::string scene_name;
     std::string scene_sha256; ///< SHA-256 of the resolved scene text: a restart with another scene is refused
     std::string vitrum_version; ///< set by the caller on writing (the driver owns the version string)
+    std::vector<double> controller; ///< state of the stage controller (effect indenter; empty otherwise)
     ContactHistory contacts{}; ///< effect contact: the loaded tangential springs, /contacts (optional on reading)
 };
 

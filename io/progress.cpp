@@ -78,7 +78,7 @@ void ProgressReporter::emit(const std::string& line) {
         drawn_length_ = line.size();
         out_.flush();
     } else {
-        out_ << line << '\n';
+        out_ << line << std::endl; // flushed: a batch log followed with tail -f shows it at once
     }
 }
 

@@ -30,9 +30,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The 1 + 6 effects of DESIGN.md §4; only the first two have kernels so far.
 const std::vector<std::string> kKnownEffects = {"elasticity", "densification", "fracture", "contact",
                                                 "indenter",   "coupling",      "damping"};
-const std::vector<std::string> kAvailableEffects = {"elasticity", "damping", "densification", "fracture", "contact"};
+const std::vector<std::string> kAvailableEffects = {"elasticity", "damping", "densification", "fracture", "contact", "indenter"};
 const std::vector<std::string> kOutputFields = {"displacement", "velocity",     "force", "angular_velocity",
-                                                "torque",       "coordination", "radius", "damage", "stress"};
+                                                "torque",       "coordination", "radius", "densification", "tool", "damage", "stress"};
 
 /// Shortest decimal that reads back to the same double (std::to_chars round-trip guarantee).
 std::string shortest(double x) {
@@ -240,6 +240,8 @@ private:
     void readLoads(const TableReader& top, Scene& scene) const;
     void readFracture(const TableReader& top, Scene& scene) const;
     void readContact(const TableReader& top, Scene& scene) const;
+    void readIndenter(const TableReader& top, Scene& scene) const;
+    void readStages(const TableReader& top, Scene& scene) const;
     void readTime(const TableReader& top, Scene& scene) const;
     void readMeasure(const TableReader& top, Scene& scene) const;
     void readOutput(const TableReader& top, Scene& scene) const;
@@ -251,8 +253,10 @@ private:
     double stress_ = 1.0;
     double time_ = 1.0;
     double velocity_ = 1.0;
+    double force_ = 1.0;
     const toml::node* damping_effect_ = nullptr; ///< the "damping" entry of effects.list, for messages
     const toml::node* densification_effect_ = nullptr; ///< the "densification" entry of effects.list
+    const toml::node* indenter_effect_ = nullptr; ///< the "indenter" entry of effects.list
     mutable std::optional<CalibrationFile> material_calibration_; ///< [material] calibration, once read
 };
 
@@ -426,22 +430,45 @@ void SceneParser::applyOverride(toml::table& root, const std::string& assignment
     if (key.find_first_not_of(" \t") == std::string::npos) {
         throw InputError(label + ": expected 'dotted.key=value', got an empty key");
     }
+    // An element of an array of tables ("stage[2].speed=0.01") is addressed by its index: the rest of the key
+    // is merged into that element, which must exist.
+    toml::table* target = &root;
+    std::string rest = key;
+    const std::size_t open = key.find('[');
+    if (open != std::string::npos) {
+        const std::size_t close = key.find(']', open);
+        const std::string name = key.substr(0, open);
+        const std::string index_text = close == std::string::npos ? "" : key.substr(open + 1, close - open - 1);
+        if (close == std::string::npos || close + 1 >= key.size() || key[close + 1] != '.' || index_text.empty() ||
+            index_text.find_first_not_of("0123456789") != std::string::npos) {
+            throw InputError(label + ": key '" + key + "': expected 'name[index].key=value' for an element of an "
+                             "array of tables");
+        }
+        const std::size_t index = std::stoul(index_text);
+        toml::array* array = root[name].as_array();
+        if (!array || index >= array->size() || !array->get(index)->is_table()) {
+            throw InputError(label + ": key '" + key + "': the scene has no [[" + name + "]] number " + index_text +
+                             " (counting from 0; it has " + std::to_string(array ? array->size() : 0) + ")");
+        }
+        target = array->get(index)->as_table();
+        rest = key.substr(close + 2);
+    }
     // Parsing "key = value" as a document lets toml++ split the dotted key and build the nested tables, and
     // labels every node with the override so that validation errors point at it rather than at the file.
     toml::table parsed;
     try {
-        parsed = toml::parse(key + " = " + value, std::string_view(label));
+        parsed = toml::parse(rest + " = " + value, std::string_view(label));
     } catch (const toml::parse_error& e) {
         throw InputError(label + ": key '" + key + "': expected a TOML value (strings in quotes), got " +
                          value + " (" + std::string(e.description()) + ")");
     }
-    mergeInto(root, parsed);
+    mergeInto(*target, parsed);
 }
 
 Scene SceneParser::build(const toml::table& root) {
     const TableReader top(*this, &root, "", "the scene");
     top.allowOnly({"scene", "units", "effects", "sample", "material", "sets", "boundary", "damping", "time",
-                   "measure", "output", "densification", "load", "fracture", "contact"});
+                   "measure", "output", "densification", "load", "fracture", "contact", "indenter", "stage"});
     Scene scene;
     scene.source_path = source_name_;
     readUnits(top, scene); // first: the other tables' numbers are in these units
@@ -463,6 +490,8 @@ Scene SceneParser::build(const toml::table& root) {
     readDensification(top, scene);
     readFracture(top, scene);
     readContact(top, scene);
+    readIndenter(top, scene);
+    readStages(top, scene);
     readTime(top, scene);
     readMeasure(top, scene);
     readOutput(top, scene);
@@ -480,6 +509,7 @@ void SceneParser::readUnits(const TableReader& top, Scene& scene) {
     stress_ = stressFactor(scene.units.stress);
     time_ = timeFactor(scene.units.time);
     velocity_ = velocityFactor(scene.units.length, scene.units.time);
+    force_ = forceFactor(scene.units.force);
 }
 
 void SceneParser::readEffects(const TableReader& top, Scene& scene) {
@@ -505,6 +535,9 @@ void SceneParser::readEffects(const TableReader& top, Scene& scene) {
         }
         if (item.value == "densification") {
             densification_effect_ = item.node;
+        }
+        if (item.value == "indenter") {
+            indenter_effect_ = item.node;
         }
         scene.effects.push_back(item.value);
     }
@@ -874,6 +907,175 @@ void SceneParser::readDensification(const TableReader& top, Scene& scene) const 
     }
 }
 
+void SceneParser::readIndenter(const TableReader& top, Scene& scene) const {
+    const TableReader table = top.subtable("indenter");
+    if (table.table() && !scene.hasEffect("indenter")) {
+        fail(table.table()->source(), "table [indenter] is given but effects.list does not contain \"indenter\" "
+                                      "(expected \"indenter\" in effects.list, or no [indenter] table)");
+    }
+    if (!scene.hasEffect("indenter")) {
+        return;
+    }
+    if (!table.table()) {
+        fail(indenter_effect_->source(), "key 'effects.list': the effect \"indenter\" expected an [indenter] table "
+                                         "with at least kind, found none");
+    }
+    table.allowOnly({"kind", "face_angle_deg", "half_angle_deg", "height", "radius", "stiffness", "damping_ratio",
+                     "friction", "gap", "axis_x", "axis_y"});
+    IndenterParams& p = scene.indenter;
+    const auto kind = table.choice("kind", {"vickers", "cone", "sphere"});
+    if (!kind) {
+        table.missing("kind", "one of \"vickers\", \"cone\", \"sphere\"");
+    }
+    p.kind = *kind;
+    // Keys of another tool kind are a contradiction to resolve, not something to ignore.
+    const std::vector<std::pair<const char*, const char*>> owner = {
+        {"face_angle_deg", "vickers"}, {"half_angle_deg", "cone"}, {"radius", "sphere"}, {"height", "vickers|cone"}};
+    for (const auto& [key, kinds] : owner) {
+        if (const toml::node* given = table.find(key); given && std::string(kinds).find(p.kind) == std::string::npos) {
+            fail(given->source(), "key '" + table.dotted(key) + "': not used with kind = " + tomlString(p.kind) +
+                                      ", got " + describe(*given));
+        }
+    }
+    constexpr double kDegree = 3.14159265358979323846 / 180.0;
+    if (auto a = table.number("face_angle_deg", Range{0.0, 180.0, true, true}, "in degrees")) {
+        p.face_angle = *a * kDegree;
+    }
+    if (auto a = table.number("half_angle_deg", Range{0.0, 90.0, true, true}, "in degrees")) {
+        p.cone_half_angle = *a * kDegree;
+    }
+    const std::string in_length = "in " + scene.units.length;
+    if (auto h = table.number("height", kPositive, in_length)) {
+        p.height = toInternal(*h, length_);
+    }
+    if (auto r = table.number("radius", kPositive, in_length)) {
+        p.radius = toInternal(*r, length_);
+    }
+    if (auto k = table.number("stiffness", kNonNegative,
+                              "in " + scene.units.force + "/" + scene.units.length + "; 0 = automatic")) {
+        p.stiffness = toInternal(*k, force_ / length_);
+    }
+    p.damping_ratio = table.number("damping_ratio", Range{0.0, 1.0}).value_or(p.damping_ratio);
+    p.friction = table.number("friction", Range{0.0, 2.0}).value_or(p.friction);
+    if (auto g = table.number("gap", kNonNegative, in_length)) {
+        p.gap = toInternal(*g, length_);
+    }
+    p.axis.x() = toInternal(table.number("axis_x", kAny, in_length).value_or(0.0), length_);
+    p.axis.y() = toInternal(table.number("axis_y", kAny, in_length).value_or(0.0), length_);
+}
+
+void SceneParser::readStages(const TableReader& top, Scene& scene) const {
+    const toml::node* node = top.find("stage");
+    if (node && !scene.hasEffect("indenter")) {
+        fail(node->source(), "[[stage]] is given but effects.list does not contain \"indenter\" (stages drive "
+                             "the indenter; expected \"indenter\" in effects.list, or no [[stage]])");
+    }
+    if (!scene.hasEffect("indenter")) {
+        return;
+    }
+    if (!node) {
+        fail(indenter_effect_->source(), "key 'effects.list': the effect \"indenter\" expected at least one "
+                                         "[[stage]] (kind = \"load\", speed, until_force), found none");
+    }
+    const toml::array* array = node->as_array();
+    if (!array ||
+        std::any_of(array->begin(), array->end(), [](const toml::node& n) { return !n.is_table(); })) {
+        top.mismatch(*node, "stage", "an array of tables [[stage]]");
+    }
+    const std::string velocity_unit = scene.units.length + "/" + scene.units.time;
+    double last_load_force = -1.0;
+    double last_speed = 0.0;
+    double last_band = 0.05;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+        const TableReader t(*this, array->get(i)->as_table(), "stage[" + std::to_string(i) + "]", "[[stage]]");
+        t.allowOnly({"kind", "control", "speed", "until_force", "duration", "slow_band", "kinetic_tolerance"});
+        const auto kind = t.choice("kind", {"load", "hold", "unload", "relax"});
+        if (!kind) {
+            t.missing("kind", "one of \"load\", \"hold\", \"unload\", \"relax\"");
+        }
+        const auto control = t.choice("control", {"displacement", "force"});
+        if (control && *control == "force" && *kind != "hold") {
+            fail(t.find("control")->source(), "key '" + t.dotted("control") + "': \"force\" control is for "
+                                              "kind = \"hold\" only (load and unload are displacement-controlled)");
+        }
+        StageParams st;
+        st.kind = *kind == "load" ? StageKind::Load : *kind == "hold" ? StageKind::Hold
+                                : *kind == "unload"                ? StageKind::Unload
+                                                                   : StageKind::Relax;
+        const std::vector<std::pair<const char*, std::vector<StageKind>>> uses = {
+            {"speed", {StageKind::Load, StageKind::Unload, StageKind::Relax}},
+            {"until_force", {StageKind::Load, StageKind::Unload}},
+            {"duration", {StageKind::Hold, StageKind::Relax}},
+            {"slow_band", {StageKind::Load}},
+            {"kinetic_tolerance", {StageKind::Relax}}};
+        for (const auto& [key, kinds] : uses) {
+            const toml::node* given = t.find(key);
+            if (given && std::find(kinds.begin(), kinds.end(), st.kind) == kinds.end()) {
+                fail(given->source(), "key '" + t.dotted(key) + "': not used with kind = " + tomlString(*kind) +
+                                          ", got " + describe(*given));
+            }
+        }
+        const std::string in_force = "in " + scene.units.force;
+        const std::string in_time = "in " + scene.units.time;
+        if (st.kind == StageKind::Load || st.kind == StageKind::Unload) {
+            const auto speed = t.number("speed", kPositive, "in " + velocity_unit);
+            if (!speed) {
+                t.missing("speed", kPositive.text() + " (in " + velocity_unit + ") for kind = " + tomlString(*kind));
+            }
+            st.speed = toInternal(*speed, velocity_);
+            last_speed = st.speed;
+        }
+        if (st.kind == StageKind::Load) {
+            const auto f = t.number("until_force", kPositive, in_force);
+            if (!f) {
+                t.missing("until_force", kPositive.text() + " (in " + scene.units.force + ") for kind = \"load\"");
+            }
+            st.until_force = toInternal(*f, force_);
+            st.slow_band = t.number("slow_band", Range{0.0, 1.0, true, false}).value_or(st.slow_band);
+            last_load_force = st.until_force;
+            last_band = st.slow_band;
+        }
+        if (st.kind == StageKind::Unload) {
+            const toml::node* given = t.find("until_force");
+            st.until_force = toInternal(t.number("until_force", kNonNegative, in_force).value_or(0.0), force_);
+            if (last_load_force < 0.0) {
+                fail(t.table()->source(), "[[stage]] " + std::to_string(i) + ": an \"unload\" stage expected a "
+                                          "\"load\" stage before it, found none (contradictory stages)");
+            }
+            if (st.until_force >= last_load_force) {
+                fail(given ? given->source() : t.table()->source(),
+                     "key '" + t.dotted("until_force") + "': expected less than the preceding load's until_force (" +
+                         shortest(fromInternal(last_load_force, force_)) + " " + scene.units.force + "), got " +
+                         shortest(fromInternal(st.until_force, force_)) + " (contradictory stages)");
+            }
+        }
+        if (st.kind == StageKind::Hold) {
+            const auto d = t.number("duration", kPositive, in_time);
+            if (!d) {
+                t.missing("duration", kPositive.text() + " (in " + scene.units.time + ") for kind = \"hold\"");
+            }
+            st.duration = toInternal(*d, time_);
+            st.force_control = control.value_or("force") == "force";
+            if (st.force_control) {
+                if (last_load_force < 0.0) {
+                    fail(t.table()->source(), "[[stage]] " + std::to_string(i) + ": a force-controlled \"hold\" "
+                                              "expected a \"load\" stage before it (its target), found none; "
+                                              "or give control = \"displacement\"");
+                }
+                st.until_force = last_load_force;
+                st.speed = last_speed;
+                st.slow_band = last_band;
+            }
+        }
+        if (st.kind == StageKind::Relax) {
+            st.speed = toInternal(t.number("speed", kNonNegative, "in " + velocity_unit).value_or(fromInternal(last_speed, velocity_)), velocity_);
+            st.duration = toInternal(t.number("duration", kNonNegative, in_time + "; 0 = until at rest").value_or(0.0), time_);
+            st.kinetic_tolerance = t.number("kinetic_tolerance", kPositive).value_or(st.kinetic_tolerance);
+        }
+        scene.stages.push_back(st);
+    }
+}
+
 void SceneParser::readFracture(const TableReader& top, Scene& scene) const {
     const TableReader table = top.subtable("fracture");
     if (table.table() && !scene.hasEffect("fracture")) {
@@ -1126,6 +1328,52 @@ std::string resolvedSceneToml(const Scene& scene) {
             << "\npoisson_ratio = " << tomlFloat(d.poisson) << "\npoisson_ratio_max = " << tomlFloat(d.poisson_max)
             << "\neq5 = " << fileVec(d.eq5, 1.0) << "\neq6_b0 = " << fileVec(d.eq6_b0, stress) << " # " << u.stress
             << "\neq6_b1 = " << fileVec(d.eq6_b1, 1.0) << "\n\n";
+    }
+    if (scene.hasEffect("indenter")) {
+        const IndenterParams& p = scene.indenter;
+        constexpr double kDegree = 3.14159265358979323846 / 180.0;
+        const double force = forceFactor(u.force);
+        out << "[indenter]\nkind = " << tomlString(p.kind) << "\n";
+        if (p.kind == "vickers") {
+            out << "face_angle_deg = " << tomlFloat(p.face_angle / kDegree) << "\n";
+        }
+        if (p.kind == "cone") {
+            out << "half_angle_deg = " << tomlFloat(p.cone_half_angle / kDegree) << "\n";
+        }
+        if (p.kind == "sphere") {
+            out << "radius = " << fileFloat(p.radius, length) << " # " << u.length << "\n";
+        } else {
+            out << "height = " << fileFloat(p.height, length) << " # " << u.length << "\n";
+        }
+        out << "stiffness = " << fileFloat(p.stiffness, force / length) << " # " << u.force << "/" << u.length
+            << " (0 = automatic)\ndamping_ratio = " << tomlFloat(p.damping_ratio) << "\nfriction = "
+            << tomlFloat(p.friction) << "\ngap = " << fileFloat(p.gap, length) << " # " << u.length
+            << "\naxis_x = " << fileFloat(p.axis.x(), length) << "\naxis_y = " << fileFloat(p.axis.y(), length)
+            << "\n\n";
+        for (const StageParams& st : scene.stages) {
+            out << "[[stage]]\n";
+            switch (st.kind) {
+            case StageKind::Load:
+                out << "kind = \"load\"\ncontrol = \"displacement\"\nspeed = " << fileFloat(st.speed, velocity)
+                    << " # " << u.length << "/" << u.time << "\nuntil_force = " << fileFloat(st.until_force, force)
+                    << " # " << u.force << "\nslow_band = " << tomlFloat(st.slow_band) << "\n\n";
+                break;
+            case StageKind::Hold:
+                out << "kind = \"hold\"\ncontrol = \"" << (st.force_control ? "force" : "displacement")
+                    << "\"\nduration = " << fileFloat(st.duration, time) << " # " << u.time << "\n\n";
+                break;
+            case StageKind::Unload:
+                out << "kind = \"unload\"\ncontrol = \"displacement\"\nspeed = " << fileFloat(st.speed, velocity)
+                    << " # " << u.length << "/" << u.time << "\nuntil_force = " << fileFloat(st.until_force, force)
+                    << " # " << u.force << "\n\n";
+                break;
+            case StageKind::Relax:
+                out << "kind = \"relax\"\nspeed = " << fileFloat(st.speed, velocity) << " # " << u.length << "/"
+                    << u.time << "\nduration = " << fileFloat(st.duration, time) << " # " << u.time
+                    << "\nkinetic_tolerance = " << tomlFloat(st.kinetic_tolerance) << "\n\n";
+                break;
+            }
+        }
     }
     if (scene.hasEffect("fracture")) {
         const FractureParams& f = scene.fracture;

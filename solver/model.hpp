@@ -2,12 +2,14 @@
 // stores, the named sets and the boundary conditions; behaviour lives in kernels and in the composed step.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "solver/bonds.hpp"
 #include "solver/contacts.hpp"
 #include "solver/fracture.hpp"
+#include "solver/indentation.hpp"
 #include "solver/particles.hpp"
 #include "solver/sample.hpp"
 #include "solver/scene.hpp"
@@ -47,6 +49,7 @@ struct Model {
     std::vector<PressureLoad> loads;
     ContactList contacts;     ///< effect contact: neighbour list and pair loads (empty otherwise)
     PointForces point_forces; ///< external point forces of the step (tool contacts) for the eq (10) stress
+    std::optional<Indenter> indenter; ///< effect indenter (composeStep builds it)
     SampleParams sample;      ///< geometry the sample was built for (µm)
     double spacing = 0.0;     ///< lattice constant, µm
 

@@ -108,6 +108,42 @@ struct DensificationParams {
     Vec3 eq6_b1 = Vec3::Zero();         ///< b₁₀, b₁₁, b₁₂
 };
 
+/// Effect `indenter`: a rigid tool driven along −z on the sample's axis (kernels/indenter.hpp) through the
+/// scene's stages (solver/indentation.hpp).
+struct IndenterParams {
+    std::string kind = "vickers";        ///< vickers | cone | sphere
+    double face_angle = 2.3736477827122884; ///< rad, vickers: angle between opposite faces (136°)
+    double cone_half_angle = 1.2269;     ///< rad, cone: flank to axis (70.3°: the Vickers-equivalent cone)
+    double height = 2.0;                 ///< µm, vickers and cone
+    double radius = 10.0;                ///< µm, sphere
+    double stiffness = 0.0;              ///< contact k_n, mN/µm; 0 = twice the mean bond axial stiffness
+    double damping_ratio = 0.0;          ///< contact dashpot, fraction of critical
+    double friction = 0.0;               ///< Coulomb μ (0: frictionless)
+    double gap = 0.0;                    ///< µm between the tip and the highest particle at the start
+    Vec3 axis = Vec3::Zero();            ///< µm, (x, y) of the tool axis; z unused
+};
+
+enum class StageKind { Load, Hold, Unload, Relax };
+
+/// One stage of the tool's programme (DESIGN.md §5 [[stage]]).
+///   load    tip moves down at `speed` until the tool force reaches until_force (slowing down over the last
+///           slow_band of it, so that it never overshoots by more than 1 %)
+///   hold    for `duration`: force control (default) keeps the tool force at the preceding load's target (the
+///           tip moves at up to that load's speed, proportionally to the force error over slow_band), so the
+///           sample's ringing and creep do not carry the force past it; displacement control holds the tip
+///   unload  tip moves up at `speed` until the force falls to until_force (0: contact lost)
+///   relax   tip keeps clear; runs until the kinetic energy is below kinetic_tolerance × the tool's work, or
+///           for `duration` at most
+struct StageParams {
+    StageKind kind = StageKind::Load;
+    double speed = 0.0;             ///< km/s (= µm/ns)
+    double until_force = 0.0;       ///< mN
+    double duration = 0.0;          ///< ns (hold; relax: the longest it may take)
+    double slow_band = 0.05;        ///< load: fraction of until_force over which the tip slows down
+    double kinetic_tolerance = 1e-4;///< relax: KE / tool work at which the sample counts as at rest
+    bool force_control = true;      ///< hold: keep the force (speed, until_force, slow_band: the load's)
+};
+
 /// Effect `fracture` (paper §3, eqs 7–10; kernels/virial_stress.hpp, kernels/fracture.hpp): per-particle
 /// virial stress and the hydrostatic release criterion, checked every check_every steps.
 struct FractureParams {
@@ -128,7 +164,7 @@ struct ContactParams {
 
 struct TimeParams {
     double safety_ratio = 0.1; ///< Δt = ratio × Δt_crit (kernels/timestep.hpp)
-    double duration = 1.0;     ///< ns of simulated time
+    double duration = 1.0;     ///< ns of simulated time (with stages: the longest the stages may take)
 };
 
 /// Uniaxial measurement: apparent modulus σ/ε from the reaction on a loaded set, the sample's cross-section
@@ -161,6 +197,8 @@ struct Scene {
     DensificationParams densification;
     FractureParams fracture;           ///< effect fracture
     ContactParams contact;             ///< effect contact (on with fracture)
+    IndenterParams indenter;          ///< effect indenter
+    std::vector<StageParams> stages;  ///< [[stage]], effect indenter
     TimeParams time;
     MeasureParams measure;
     OutputParams output;

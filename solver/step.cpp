@@ -1,9 +1,11 @@
 #include "solver/step.hpp"
 
 #include <chrono>
+#include <cmath>
 
 #include "kernels/bond_kernels.hpp"
 #include "kernels/boundary.hpp"
+#include "kernels/indenter.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/pressure.hpp"
 #include "solver/fracture.hpp"
@@ -88,6 +90,23 @@ Step composeStep(const Scene& scene, Model& model) {
         });
     }
 
+    if (scene.hasEffect("indenter")) {
+        // The tool moves like the particles drift: at the start of the step, on the force of the last one. In
+        // the relax stage the kinetic energy is checked every 50 steps (counted from step 0, so a restart
+        // checks on the same steps).
+        model.indenter = makeIndenter(scene, model);
+        step.add("indenter.move", false, [](StepContext& c) {
+            Indenter& ind = *c.model.indenter;
+            const bool relaxing = !ind.done() && ind.stages[ind.stage].kind == StageKind::Relax;
+            double ke = -1.0;
+            if (relaxing && std::llround(c.time / c.dt) % 50 == 0) {
+                const KineticEnergy k = kineticEnergy(c.model.particles.view());
+                ke = k.translational + k.rotational;
+            }
+            advanceIndenter(ind, c.time, c.dt, ke);
+        });
+    }
+
     const bool damping = scene.hasEffect("damping");
     if (scene.hasEffect("densification")) {
         // The slider acts in the beam's own pass (one kinematics per bond); its per-bond state is sized here,
@@ -119,6 +138,18 @@ Step composeStep(const Scene& scene, Model& model) {
         gatherBondLoads(c.model.incidence.view(), c.model.bonds.view(), c.model.particles.view());
     });
     addContactPhases(step, scene, model); // effect contact: unbonded contacts (solver/fracture.hpp)
+    if (model.indenter) {
+        // After the gather (which overwrites the forces), before damping (which acts on the total force).
+        step.add("indenter.contact", true, [](StepContext& c) {
+            Indenter& ind = *c.model.indenter;
+            ind.reaction = applyToolContacts(c.model.particles.view(), ind.tool, ind.law, ind.tip,
+                                             Vec3(0, 0, ind.tip_velocity), ind.contact_force.data());
+            if (ind.force() > ind.max_force) {
+                ind.max_force = ind.force();
+                ind.depth_at_max_force = ind.depth();
+            }
+        });
+    }
     if (!model.loads.empty()) {
         // After the gather (which overwrites the forces) and before damping (which acts on the total force).
         step.add("loads.pressure", true, [](StepContext& c) {

@@ -16,14 +16,15 @@ using testing::freshTempDir;
 using testing::readText;
 using testing::runVitrum;
 
-const std::string kQuickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+// The FCC cylinder compression (the first quickstart): a small, fast elastic run for the CLI contract.
+const std::string kCompression = std::string(VITRUM_SOURCE_DIR) + "/examples/compression-cylinder.toml";
 
 nlohmann::json readSummary(const fs::path& dir) { return nlohmann::json::parse(readText(dir / "summary.json")); }
 
-TEST(Quickstart, RunsAndReachesStaticEquilibrium) {
-    // The full quickstart example (examples/quickstart.toml), as `make run` runs it.
-    const fs::path dir = freshTempDir("quickstart");
-    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string(), dir / "log.txt"), 0)
+TEST(CompressionCylinder, RunsAndReachesStaticEquilibrium) {
+    // The full example examples/compression-cylinder.toml.
+    const fs::path dir = freshTempDir("compression");
+    ASSERT_EQ(runVitrum("run " + kCompression + " --out " + dir.string(), dir / "log.txt"), 0)
         << readText(dir / "log.txt");
     const nlohmann::json s = readSummary(dir);
     for (const char* key : {"scene", "effects", "particles", "bonds", "steps", "dt_ns", "threads", "wall_time_s",
@@ -49,12 +50,12 @@ TEST(Quickstart, RunsAndReachesStaticEquilibrium) {
 }
 
 TEST(Determinism, OneAndTwoThreadsGiveTheSameStateHash) {
-    // A reduced quickstart (500 particles, 2 ns, bond-viscous damping for a different code path) run with
+    // A reduced cylinder compression (500 particles, 2 ns, bond-viscous damping for a different code path) run with
     // 1 and 2 threads: reductions and gathers are deterministic by design, so the final-state hashes match.
     std::string hashes[2];
     for (int t = 1; t <= 2; ++t) {
         const fs::path dir = freshTempDir("determinism");
-        const std::string args = "run " + kQuickstart + " --out " + dir.string() + " --threads " + std::to_string(t) +
+        const std::string args = "run " + kCompression + " --out " + dir.string() + " --threads " + std::to_string(t) +
                                  " --quiet --set sample.particles=500 --set time.duration=2.0"
                                  " --set 'damping={kind=\"bond-viscous\", coefficient=0.1}'";
         ASSERT_EQ(runVitrum(args, dir / "log.txt"), 0) << readText(dir / "log.txt");
@@ -94,7 +95,7 @@ TEST(Cli, BadInputExitsWithCode2AndNamesFileLineAndKey) {
 
     EXPECT_EQ(runVitrum("run /nonexistent/scene.toml", log), 2);
     EXPECT_NE(readText(log).find("/nonexistent/scene.toml"), std::string::npos);
-    EXPECT_EQ(runVitrum("run " + kQuickstart + " --set sample.particles=-3 --out " + (dir / "o2").string(), log), 2);
+    EXPECT_EQ(runVitrum("run " + kCompression + " --set sample.particles=-3 --out " + (dir / "o2").string(), log), 2);
     EXPECT_NE(readText(log).find("sample.particles"), std::string::npos) << readText(log);
     EXPECT_EQ(runVitrum("--help", log), 0);
     EXPECT_NE(readText(log).find("run"), std::string::npos);
@@ -108,7 +109,7 @@ TEST(Cli, SafetyRatioAboveOneIsRejectedAsBadInput) {
     // watchdog for blow-ups that do happen is tested in TimeStep.EstimateIsStableAndTwiceItBlowsUpDetected.
     const fs::path dir = freshTempDir("cli-ratio");
     const fs::path log = dir / "log.txt";
-    EXPECT_EQ(runVitrum("run " + kQuickstart + " --set time.safety_ratio=2.0 --out " + dir.string(), log), 2);
+    EXPECT_EQ(runVitrum("run " + kCompression + " --set time.safety_ratio=2.0 --out " + dir.string(), log), 2);
     EXPECT_NE(readText(log).find("time.safety_ratio"), std::string::npos) << readText(log);
 }
 
@@ -125,12 +126,12 @@ TEST(Restart, StopAndRestartGivesTheUninterruptedStateHash) {
     // bit-identical final state of the uninterrupted run.
     const fs::path full = freshTempDir("restart-full");
     const fs::path parts = freshTempDir("restart-parts");
-    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + full.string() + kSmall, full / "log.txt"), 0);
-    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + parts.string() + kSmall + " --stop-after 300",
+    ASSERT_EQ(runVitrum("run " + kCompression + " --out " + full.string() + kSmall, full / "log.txt"), 0);
+    ASSERT_EQ(runVitrum("run " + kCompression + " --out " + parts.string() + kSmall + " --stop-after 300",
                         parts / "log1.txt"), 0) << readText(parts / "log1.txt");
     EXPECT_FALSE(fs::exists(parts / "summary.json"));
     ASSERT_TRUE(fs::exists(parts / "state.h5"));
-    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + parts.string() + kSmall + " --restart " +
+    ASSERT_EQ(runVitrum("run " + kCompression + " --out " + parts.string() + kSmall + " --restart " +
                             (parts / "state.h5").string(), parts / "log2.txt"), 0)
         << readText(parts / "log2.txt");
     EXPECT_EQ(readSummary(full)["state_sha256"], readSummary(parts)["state_sha256"]);
@@ -138,12 +139,12 @@ TEST(Restart, StopAndRestartGivesTheUninterruptedStateHash) {
 
 TEST(Restart, RefusesACheckpointOfAnotherScene) {
     const fs::path dir = freshTempDir("restart-other");
-    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + kSmall + " --stop-after 10", dir / "a.txt"), 0);
-    EXPECT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + kSmall + " --set scene.seed=7 --restart " +
+    ASSERT_EQ(runVitrum("run " + kCompression + " --out " + dir.string() + kSmall + " --stop-after 10", dir / "a.txt"), 0);
+    EXPECT_EQ(runVitrum("run " + kCompression + " --out " + dir.string() + kSmall + " --set scene.seed=7 --restart " +
                             (dir / "state.h5").string(), dir / "b.txt"), 2);
     EXPECT_NE(readText(dir / "b.txt").find("checkpoint of another scene"), std::string::npos) << readText(dir / "b.txt");
     std::ofstream(dir / "junk.h5") << "not a checkpoint";
-    EXPECT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + kSmall + " --restart " +
+    EXPECT_EQ(runVitrum("run " + kCompression + " --out " + dir.string() + kSmall + " --restart " +
                             (dir / "junk.h5").string(), dir / "c.txt"), 2);
     EXPECT_NE(readText(dir / "c.txt").find("junk.h5"), std::string::npos) << readText(dir / "c.txt");
 }
@@ -155,14 +156,14 @@ TEST(Restart, SigtermSavesACheckpointThatRestartsToTheSameState) {
     const std::string longer = " --quiet --set sample.particles=2000 --set time.duration=10.0";
     const fs::path full = freshTempDir("sigterm-full");
     const fs::path cut = freshTempDir("sigterm-cut");
-    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + full.string() + longer, full / "log.txt"), 0);
-    const std::string cmd = "timeout --preserve-status -s TERM 1 " + std::string(VITRUM_BINARY) + " run " + kQuickstart + " --out " +
+    ASSERT_EQ(runVitrum("run " + kCompression + " --out " + full.string() + longer, full / "log.txt"), 0);
+    const std::string cmd = "timeout --preserve-status -s TERM 1 " + std::string(VITRUM_BINARY) + " run " + kCompression + " --out " +
                             cut.string() + longer + " > " + (cut / "log1.txt").string() + " 2>&1";
     const int status = std::system(cmd.c_str());
     ASSERT_TRUE(WIFEXITED(status));
     ASSERT_EQ(WEXITSTATUS(status), 1) << readText(cut / "log1.txt"); // the run takes well over 1 s
     EXPECT_NE(readText(cut / "log1.txt").find("--restart"), std::string::npos) << readText(cut / "log1.txt");
-    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + cut.string() + longer + " --restart " +
+    ASSERT_EQ(runVitrum("run " + kCompression + " --out " + cut.string() + longer + " --restart " +
                             (cut / "state.h5").string(), cut / "log2.txt"), 0)
         << readText(cut / "log2.txt");
     EXPECT_EQ(readSummary(full)["state_sha256"], readSummary(cut)["state_sha256"]);

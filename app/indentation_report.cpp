@@ -1,0 +1,199 @@
+#include "app/indentation_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "io/atomic_file.hpp"
+#include "kernels/strain.hpp"
+#include "solver/imprint.hpp"
+#include "solver/sample.hpp"
+
+namespace vitrum {
+
+namespace fs = std::filesystem;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+/// Radius of the sample's free top face (hemisphere, cylinder, sphere: its radius; box: half the smaller side).
+double sampleRadius(const SampleParams& s) {
+    return s.shape == "box" ? 0.5 * std::min(s.size.x(), s.size.y()) : s.radius;
+}
+
+/// Paper Table 4 (Keryvin-type rows): V⁻, V⁺, V_d, D, L for the DEM row and the experiments.
+struct Table4Row {
+    const char* source;
+    double v_minus, v_plus, v_d, depth, diagonal;
+};
+const Table4Row kTable4_01N[] = {{"paper DEM", 1.304, 0.136, 1.168, 0.159, 4.758},
+                                 {"paper CNEM-DEM", 1.302, 0.131, 1.171, 0.159, 4.758},
+                                 {"exp. Ji [8]", 0.727, 0.108, 0.605, 0.377, 4.707},
+                                 {"exp. [32]", 1.034, 0.018, 0.952, 0.421, 5.157}};
+const Table4Row kTable4_05N[] = {{"paper DEM", 14.534, 1.174, 13.360, 0.397, 9.318},
+                                 {"paper CNEM-DEM", 13.628, 0.920, 12.708, 0.409, 9.957},
+                                 {"exp. Ji [8]", 9.971, 1.138, 8.805, 0.908, 10.371}};
+} // namespace
+
+void measureIndentation(const Scene& scene, const Model& model, double mean_radius, const fs::path& out,
+                        nlohmann::ordered_json& m) {
+    const Indenter& ind = *model.indenter;
+    const Particles& p = model.particles;
+    const std::size_t n = p.size();
+
+    ImprintParams params;
+    params.axis = scene.indenter.axis;
+    const double rs = sampleRadius(model.sample);
+    params.far_inner = 0.65 * rs;
+    params.far_outer = 0.85 * rs;
+    params.spacing = 0.25 * mean_radius;
+    params.smoothing = 0.5 * mean_radius;
+    const SurfaceGrid before =
+        surfaceEnvelope(n, p.initial_position.data(), p.radius.data(), params.axis, params.far_outer, params.spacing);
+    const SurfaceGrid after =
+        surfaceEnvelope(n, p.position.data(), p.radius.data(), params.axis, params.far_outer, params.spacing);
+    const ImprintMetrics im = measureImprint(before, after, params);
+
+    m["V_minus_um3"] = im.v_minus;
+    m["V_plus_um3"] = im.v_plus;
+    m["V_d_um3"] = im.v_d;
+    m["depth_um"] = im.depth;
+    m["diagonal_um"] = im.diagonal;
+    m["diagonals_um"] = {im.diagonals[0], im.diagonals[1]};
+    m["max_force_N"] = ind.max_force * 1e-3;
+    m["max_depth_um"] = ind.max_depth;
+    m["depth_at_max_force_um"] = ind.depth_at_max_force;
+    // HV = 1.8544 F/L² (F in mN and L in µm give GPa).
+    m["hardness_GPa"] = im.diagonal > 0.0 ? 1.8544 * ind.max_force / (im.diagonal * im.diagonal) : 0.0;
+    m["tool_work_nJ"] = ind.work;
+    m["relax_converged"] = ind.relax_converged;
+    m["imprint_method"] = "upper envelope of the particles on a grid (spacing " + std::to_string(params.spacing) +
+                          " um), after minus before, Gaussian-smoothed (sigma " + std::to_string(params.smoothing) +
+                          " um), far field = mean over r in [" + std::to_string(params.far_inner) + ", " +
+                          std::to_string(params.far_outer) + "] um, integrals over r < " +
+                          std::to_string(params.far_inner) + " um";
+    m["far_field_offset_um"] = im.far_field;
+
+    // Densified volume from the permanent volumetric strain: Σ Ω_i (−ε_v,i), Ω_i = particle volume / φ with φ
+    // the sample's packing fraction (the cells tile the sample volume).
+    std::vector<double> eps(n, 0.0);
+    volumetricStrain(model.incidence.view(), model.bonds.i.data(), model.bonds.j.data(), p.initial_position.data(),
+                     p.position.data(), eps.data());
+    double solid = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        solid += 4.0 / 3.0 * kPi * p.radius[i] * p.radius[i] * p.radius[i];
+    }
+    const double phi = solid / shapeVolume(model.sample);
+    auto cellVolume = [&](std::size_t i) { return 4.0 / 3.0 * kPi * p.radius[i] * p.radius[i] * p.radius[i] / phi; };
+    double v_kin = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        v_kin -= cellVolume(i) * eps[i];
+    }
+    m["densified_volume_um3"] = v_kin;
+    m["densified_volume_method"] = "integral of the residual volumetric strain det(F)-1 of each particle's bonded "
+                                   "neighbourhood (least-squares F), cells of volume (4/3 pi R^3)/phi, phi = " +
+                                   std::to_string(phi);
+    std::vector<double> slider(n, 0.0);
+    if (model.bonds.densificationEnabled()) {
+        sliderVolumetricStrain(model.incidence.view(), model.bonds.slip.data(), slider.data());
+        double v_slider = 0.0;
+        double zone_depth = 0.0;
+        double zone_radius = 0.0;
+        // The densified zone: particles whose bonds slipped on average 10 % of the saturation slip.
+        const double threshold = 0.1 * 3.0 * scene.densification.max_permanent_strain;
+        for (std::size_t i = 0; i < n; ++i) {
+            v_slider -= cellVolume(i) * slider[i];
+            if (-slider[i] > threshold) {
+                zone_depth = std::max(zone_depth, ind.surface_level - p.initial_position[3 * i + 2]);
+                zone_radius = std::max(zone_radius, std::hypot(p.initial_position[3 * i] - params.axis.x(),
+                                                               p.initial_position[3 * i + 1] - params.axis.y()));
+            }
+        }
+        long slipped = 0;
+        long saturated = 0;
+        for (double e : model.bonds.slip) {
+            slipped += e > 0.0;
+            saturated += e >= scene.densification.max_permanent_strain;
+        }
+        m["slider_densified_volume_um3"] = v_slider;
+        m["densified_bonds"] = slipped;
+        m["saturated_bonds"] = saturated;
+        m["densified_zone_depth_um"] = zone_depth;
+        m["densified_zone_radius_um"] = zone_radius;
+    }
+
+    // Plot data: the imprint on its grid, and a slab through the axis (y ≈ axis y) for the cut-away view.
+    std::ostringstream imprint;
+    imprint << "x_um,y_um,dh_um\n" << std::setprecision(7);
+    for (int iy = 0; iy < im.grid.ny; ++iy) {
+        for (int ix = 0; ix < im.grid.nx; ++ix) {
+            const double v = im.dh[static_cast<std::size_t>(ix + im.grid.nx * iy)];
+            if (!std::isnan(v)) {
+                imprint << im.grid.x(ix) << "," << im.grid.y(iy) << "," << v << "\n";
+            }
+        }
+    }
+    writeFileAtomically((out / "imprint.csv").string(), imprint.str());
+    std::ostringstream cut;
+    cut << "x_um,z_um,radius_um,volumetric_strain,slider_volumetric_strain,uz_um\n" << std::setprecision(7);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (std::abs(p.initial_position[3 * i + 1] - params.axis.y()) < 1.5 * mean_radius) {
+            cut << p.position[3 * i] << "," << p.position[3 * i + 2] << "," << p.radius[i] << "," << eps[i] << ","
+                << slider[i] << "," << p.position[3 * i + 2] - p.initial_position[3 * i + 2] << "\n";
+        }
+    }
+    writeFileAtomically((out / "cutaway.csv").string(), cut.str());
+}
+
+void printImprintTable(std::ostream& log, const Scene& scene, const nlohmann::ordered_json& m) {
+    double target = 0.0;
+    for (const StageParams& s : scene.stages) {
+        target = std::max(target, s.until_force);
+    }
+    const bool light = std::abs(target * 1e-3 - 0.1) <= std::abs(target * 1e-3 - 0.5);
+    log << "  imprint (F_max " << std::setprecision(4) << m["max_force_N"].get<double>()
+        << " N)          V-/um3    V+/um3    Vd/um3     D/um      L/um\n";
+    auto row = [&](const std::string& name, double a, double b, double c, double d, double e) {
+        log << "    " << std::left << std::setw(26) << name << std::right << std::fixed << std::setprecision(3)
+            << std::setw(9) << a << std::setw(10) << b << std::setw(10) << c << std::setw(10) << d << std::setw(10)
+            << e << "\n"
+            << std::defaultfloat;
+    };
+    row("vitrum", m["V_minus_um3"], m["V_plus_um3"], m["V_d_um3"], m["depth_um"], m["diagonal_um"]);
+    const std::string load = light ? "0.1 N" : "0.5 N";
+    if (light) {
+        for (const Table4Row& r : kTable4_01N) {
+            row(std::string(r.source) + " @" + load, r.v_minus, r.v_plus, r.v_d, r.depth, r.diagonal);
+        }
+    } else {
+        for (const Table4Row& r : kTable4_05N) {
+            row(std::string(r.source) + " @" + load, r.v_minus, r.v_plus, r.v_d, r.depth, r.diagonal);
+        }
+    }
+    if (m.contains("slider_densified_volume_um3")) {
+        log << "    densified volume (residual volumetric strain) " << m["densified_volume_um3"].get<double>()
+            << " um3, (bond slips) " << m["slider_densified_volume_um3"].get<double>() << " um3; hardness "
+            << m["hardness_GPa"].get<double>() << " GPa\n";
+    }
+}
+
+void plotIndentation(std::ostream& log, const fs::path& out, bool verbose) {
+    const fs::path script = fs::path(VITRUM_SOURCE_DIR) / "io" / "plot_indentation.py";
+    if (!fs::exists(script)) {
+        return;
+    }
+    const std::string command = "/usr/bin/python3 '" + script.string() + "' '" + out.string() + "' > '" +
+                                (out / "plots.log").string() + "' 2>&1";
+    const int rc = std::system(command.c_str());
+    if (rc != 0) {
+        log << "vitrum: plots not made (" << script.string() << " failed; see " << (out / "plots.log").string()
+            << ")\n";
+    } else if (verbose) {
+        log << "  plots      " << (out / "plots").string() << "/{force_depth,imprint_top,densified_cutaway}.png\n";
+    }
+}
+
+} // namespace vitrum

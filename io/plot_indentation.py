@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""Plots of a `vitrum run` indentation (DESIGN.md §6), from the files the run wrote into OUTDIR:
+
+    python3 io/plot_indentation.py OUTDIR
+
+  plots/force_depth.png        force-depth curve (series.csv: tool_depth_um, tool_force_N)
+  plots/imprint_top.png        top view of the residual print coloured by the vertical surface change
+                               (imprint.csv; paper Fig 13: blue below, red above the far field)
+  plots/densified_cutaway.png  cut-away through the axis coloured by the residual volumetric strain
+                               (cutaway.csv; paper Fig 14)
+"""
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.colors import TwoSlopeNorm  # noqa: E402
+
+
+def columns(path, names):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    return [[float(r[n]) for r in rows] for n in names]
+
+
+def main() -> int:
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    out = sys.argv[1]
+    plots = os.path.join(out, "plots")
+    os.makedirs(plots, exist_ok=True)
+    summary = {}
+    if os.path.exists(os.path.join(out, "summary.json")):
+        with open(os.path.join(out, "summary.json")) as f:
+            summary = json.load(f)
+    name = summary.get("scene", os.path.basename(os.path.normpath(out)))
+
+    depth, force = columns(os.path.join(out, "series.csv"), ["tool_depth_um", "tool_force_N"])
+    fig, ax = plt.subplots(figsize=(6, 4), dpi=120)
+    ax.plot(depth, [1e3 * f for f in force], lw=1.2)
+    ax.set_xlabel("tool depth below the free surface (um)")
+    ax.set_ylabel("tool force (mN)")
+    ax.set_title(f"{name}: force-depth")
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(plots, "force_depth.png"))
+    plt.close(fig)
+
+    x, y, dh = columns(os.path.join(out, "imprint.csv"), ["x_um", "y_um", "dh_um"])
+    lim = max(1e-6, max(abs(v) for v in dh))
+    fig, ax = plt.subplots(figsize=(5.5, 4.6), dpi=120)
+    sc = ax.scatter(x, y, c=dh, s=2, marker="s", cmap="coolwarm", norm=TwoSlopeNorm(0.0, -lim, lim), linewidths=0)
+    fig.colorbar(sc, ax=ax, label="residual surface change (um)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (um)")
+    ax.set_ylabel("y (um)")
+    m = summary.get("measurements", {})
+    if m:
+        ax.set_title(f"{name}: V- {m.get('V_minus_um3', 0):.3f}, V+ {m.get('V_plus_um3', 0):.3f} um3, "
+                     f"L {m.get('diagonal_um', 0):.2f} um", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(plots, "imprint_top.png"))
+    plt.close(fig)
+
+    x, z, r, ev, es = columns(os.path.join(out, "cutaway.csv"),
+                              ["x_um", "z_um", "radius_um", "volumetric_strain", "slider_volumetric_strain"])
+    use = es if any(v != 0.0 for v in es) else ev
+    label = "slider volumetric strain (-3 mean slip)" if use is es else "residual volumetric strain"
+    fig, ax = plt.subplots(figsize=(6.5, 3.8), dpi=120)
+    scale = 72.0 / 120.0 * fig.dpi  # marker size ~ particle diameter in points at this figure size
+    sizes = [max(1.0, (2 * ri * scale / (max(x) - min(x) + 1e-9) * 5.0) ** 2) for ri in r]
+    sc = ax.scatter(x, z, c=use, s=sizes, cmap="viridis_r", linewidths=0)
+    fig.colorbar(sc, ax=ax, label=label)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (um)")
+    ax.set_ylabel("z (um)")
+    ax.set_title(f"{name}: cut-away through the axis (densified zone)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(os.path.join(plots, "densified_cutaway.png"))
+    plt.close(fig)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,60 @@
+// Residual imprint metrics of an indentation (paper Table 4; DESIGN.md §6 keys), from the free surface
+// before and after.
+//
+// The free surface seen from above is the upper envelope of the particles: on a square grid,
+//   h(x, y) = max_i ( z_i + √(R_i² − (x − x_i)² − (y − y_i)²) )    over the particles whose disc covers (x, y)
+// (what a zero-radius profilometer tip would trace). The imprint is Δh = h_after − h_before, smoothed with a
+// Gaussian of width `smoothing` (the envelope's cusps between particles move when particles rearrange: a
+// particle pushed aside uncovers the one below, a dip of up to a diameter that would otherwise add to V⁻,
+// V⁺ and D), minus the far-field level (mean Δh over an annulus). All metrics use the smoothed Δh; the
+// smoothing blunts the apex of the print by about σ·tan(22°) ≈ 0.4σ in depth.
+// Over the disc inside the annulus:
+//   V⁻ = ∫ max(−Δh, 0) dA,  V⁺ = ∫ max(Δh, 0) dA,  V_d = V⁻ − V⁺,  D = max(−Δh)
+// and the print diagonal L: along each of the four half-diagonals x = ±y (the Vickers edges), the distance
+// from the axis to where Δh first comes back to the far-field level; L is the mean of the two diagonals.
+#pragma once
+
+#include <vector>
+
+#include "kernels/views.hpp"
+
+namespace vitrum {
+
+struct SurfaceGrid {
+    double x0 = 0.0, y0 = 0.0; ///< µm, centre of cell (0, 0)
+    double spacing = 0.0;      ///< µm
+    int nx = 0, ny = 0;
+    std::vector<double> z;     ///< nx·ny heights, row-major in y (index ix + nx·iy); -inf where uncovered
+
+    double x(int ix) const { return x0 + spacing * ix; }
+    double y(int iy) const { return y0 + spacing * iy; }
+};
+
+struct ImprintParams {
+    Vec3 axis = Vec3::Zero();   ///< µm, (x, y) of the indentation axis
+    double far_inner = 8.0;     ///< µm, far-field annulus (its inner radius also bounds the integrals)
+    double far_outer = 10.0;    ///< µm
+    double spacing = 0.05;      ///< µm, grid spacing
+    double smoothing = 0.1;     ///< µm, Gaussian σ applied to Δh (0: none)
+};
+
+struct ImprintMetrics {
+    double v_minus = 0.0;      ///< µm³
+    double v_plus = 0.0;       ///< µm³
+    double v_d = 0.0;          ///< µm³
+    double depth = 0.0;        ///< µm
+    double diagonal = 0.0;     ///< µm, mean of the two
+    double diagonals[2] = {0.0, 0.0};
+    double far_field = 0.0;    ///< µm, mean Δh over the annulus that was subtracted
+    std::vector<double> dh;    ///< the smoothed, far-field-corrected Δh on the grid (NaN outside the annulus)
+    SurfaceGrid grid;          ///< geometry of dh
+};
+
+/// The upper envelope of the particles on a grid covering the disc of radius `extent` around `axis`.
+SurfaceGrid surfaceEnvelope(std::size_t n, const double* position, const double* radius, const Vec3& axis,
+                            double extent, double spacing);
+
+/// Metrics from the envelopes before and after (both from surfaceEnvelope with the same arguments).
+ImprintMetrics measureImprint(const SurfaceGrid& before, const SurfaceGrid& after, const ImprintParams& params);
+
+} // namespace vitrum

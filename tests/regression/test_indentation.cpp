@@ -1,0 +1,103 @@
+// End-to-end Vickers indentation runs (effect indenter): the stage programme runs to the end, the force
+// target is met within 1 %, the metrics and plot data are written, the final state does not depend on the
+// thread count, and a restart in the middle of the programme continues bit-identically.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "support/test_support.hpp"
+
+namespace vitrum {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::freshTempDir;
+using testing::readText;
+using testing::runVitrum;
+
+const std::string kQuickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+// The quickstart at a fifth of its particles on a hemisphere of the same particle size (R̄ ≈ 0.23 µm), to
+// 4 mN at 50 m/s (1 % of the P-wave speed: still quasi-static for these checks), a 5 ns hold.
+const std::string kReduced =
+    " --quiet --set sample.particles=1500 --set sample.radius=3.4 --set 'stage[0].until_force=0.004'"
+    " --set 'stage[0].speed=0.05' --set 'stage[1].duration=5.0' --set 'stage[2].speed=0.05'"
+    " --set 'stage[3].duration=20.0' --set time.duration=200.0";
+
+nlohmann::json readSummary(const fs::path& dir) { return nlohmann::json::parse(readText(dir / "summary.json")); }
+
+TEST(Indentation, ReducedQuickstartRunsEveryStageAndWritesTheImprintMetrics) {
+    const fs::path dir = freshTempDir("indent");
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + kReduced, dir / "log.txt"), 0)
+        << readText(dir / "log.txt");
+    const nlohmann::json s = readSummary(dir);
+    const nlohmann::json& m = s["measurements"];
+    for (const char* key : {"V_minus_um3", "V_plus_um3", "V_d_um3", "depth_um", "diagonal_um", "max_force_N",
+                            "max_depth_um", "hardness_GPa", "densified_volume_um3", "slider_densified_volume_um3"}) {
+        EXPECT_TRUE(m.contains(key)) << key;
+    }
+    EXPECT_TRUE(m["stages_complete"].get<bool>());
+    // The controller's bound from the issue: the target is reached and never overshot by more than 1 %.
+    EXPECT_GE(m["max_force_N"].get<double>(), 0.004);
+    EXPECT_LE(m["max_force_N"].get<double>(), 0.004 * 1.01);
+    // The residual print cannot be deeper than the tip went, and V_d = V⁻ − V⁺ by definition.
+    EXPECT_LE(m["depth_um"].get<double>(), m["max_depth_um"].get<double>());
+    EXPECT_NEAR(m["V_d_um3"].get<double>(), m["V_minus_um3"].get<double>() - m["V_plus_um3"].get<double>(), 1e-12);
+    EXPECT_TRUE(fs::exists(dir / "imprint.csv"));
+    EXPECT_TRUE(fs::exists(dir / "cutaway.csv"));
+    const std::string series = readText(dir / "series.csv");
+    EXPECT_NE(series.find("tool_force_N"), std::string::npos);
+}
+
+TEST(Indentation, StateHashIsTheSameForOneAndTwoThreads) {
+    std::string hashes[2];
+    for (int t = 1; t <= 2; ++t) {
+        const fs::path dir = freshTempDir("indent-threads");
+        ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + " --threads " + std::to_string(t) +
+                                kReduced + " --set 'stage[3].duration=2.0'",
+                            dir / "log.txt"),
+                  0)
+            << readText(dir / "log.txt");
+        hashes[t - 1] = readSummary(dir)["state_sha256"].get<std::string>();
+    }
+    EXPECT_EQ(hashes[0], hashes[1]);
+}
+
+TEST(Indentation, RestartInTheMiddleOfLoadingContinuesBitIdentically) {
+    const fs::path full = freshTempDir("indent-full");
+    const fs::path parts = freshTempDir("indent-parts");
+    const std::string args = kReduced + " --set 'stage[3].duration=2.0'";
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + full.string() + args, full / "log.txt"), 0)
+        << readText(full / "log.txt");
+    const long steps = readSummary(full)["steps"].get<long>();
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + parts.string() + args + " --stop-after " +
+                            std::to_string(steps / 3),
+                        parts / "log1.txt"),
+              0)
+        << readText(parts / "log1.txt");
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + parts.string() + args + " --restart " +
+                            (parts / "state.h5").string(),
+                        parts / "log2.txt"),
+              0)
+        << readText(parts / "log2.txt");
+    EXPECT_EQ(readSummary(full)["state_sha256"], readSummary(parts)["state_sha256"]);
+    EXPECT_EQ(readSummary(full)["steps"], readSummary(parts)["steps"]);
+}
+
+TEST(Indentation, StagesThatContradictEachOtherAreBadInput) {
+    const fs::path dir = freshTempDir("indent-bad");
+    const fs::path log = dir / "log.txt";
+    // Unloading "until" a force above the load target can never end.
+    EXPECT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + " --set 'stage[2].until_force=0.1'", log), 2);
+    EXPECT_NE(readText(log).find("stage[2].until_force"), std::string::npos) << readText(log);
+    EXPECT_NE(readText(log).find("--set stage[2].until_force"), std::string::npos) << readText(log);
+    // A key of another tool kind.
+    EXPECT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + " --set indenter.radius=3.0", log), 2);
+    EXPECT_NE(readText(log).find("indenter.radius"), std::string::npos) << readText(log);
+    // An index past the stages.
+    EXPECT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + " --set 'stage[9].speed=1.0'", log), 2);
+    EXPECT_NE(readText(log).find("stage[9]"), std::string::npos) << readText(log);
+}
+
+} // namespace
+} // namespace vitrum

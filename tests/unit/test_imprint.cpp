@@ -1,0 +1,91 @@
+// Residual imprint metrics (solver/imprint.hpp) on synthetic surfaces with closed-form answers.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "solver/imprint.hpp"
+
+namespace vitrum {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A grid of the envelope's layout filled by f(x, y).
+template <class F> SurfaceGrid fill(double extent, double spacing, F f) {
+    SurfaceGrid g;
+    g.spacing = spacing;
+    g.nx = g.ny = 2 * static_cast<int>(std::ceil(extent / spacing)) + 1;
+    g.x0 = g.y0 = -spacing * (g.nx / 2);
+    g.z.resize(static_cast<std::size_t>(g.nx) * g.ny);
+    for (int iy = 0; iy < g.ny; ++iy)
+        for (int ix = 0; ix < g.nx; ++ix) g.z[ix + g.nx * iy] = f(g.x(ix), g.y(iy));
+    return g;
+}
+
+TEST(Imprint, PyramidalDentHasTheVolumeDepthAndDiagonalOfThePyramid) {
+    // A Vickers print of depth D: faces 22° to the surface, half-side a = D/tan 22°, diagonal L = 2√2 a,
+    // volume V = (2a)² D / 3; plus a far-field offset of 3 nm that the measurement must remove.
+    const double depth = 0.4;
+    const double slope = std::tan(22.0 * kPi / 180.0);
+    const double a = depth / slope;
+    const double offset = 0.003;
+    const SurfaceGrid before = fill(10.0, 0.02, [](double, double) { return 0.0; });
+    const SurfaceGrid after = fill(10.0, 0.02, [&](double x, double y) {
+        return offset - std::max(0.0, depth - slope * std::max(std::abs(x), std::abs(y)));
+    });
+    ImprintParams p;
+    p.far_inner = 8.0;
+    p.far_outer = 10.0;
+    p.spacing = 0.02;
+    p.smoothing = 0.0;
+    const ImprintMetrics m = measureImprint(before, after, p);
+    EXPECT_NEAR(m.far_field, offset, 1e-12);
+    // Midpoint-rule volume on a 0.02 µm grid of a 2a = 1.98 µm square: relative error O((h/a)²) ≈ 1e-4.
+    EXPECT_NEAR(m.v_minus / (4.0 * a * a * depth / 3.0), 1.0, 2e-3);
+    EXPECT_NEAR(m.v_plus, 0.0, 1e-12);
+    EXPECT_NEAR(m.depth, depth, 1e-12); // the apex sits on a grid node
+    // Crossing located by linear interpolation between samples h/2 apart on a piecewise-linear profile.
+    EXPECT_NEAR(m.diagonal, 2.0 * std::sqrt(2.0) * a, 0.02);
+    EXPECT_NEAR(m.diagonals[0], m.diagonals[1], 1e-9);
+}
+
+TEST(Imprint, PileUpRingGivesVPlusAndSmoothingConservesVolume) {
+    // A Gaussian bump ring of height b at radius r0, width w: volume 2π r0 · b w √(2π) (thin ring, r0 ≫ w).
+    const double b = 0.02, r0 = 4.0, w = 0.3;
+    const SurfaceGrid before = fill(10.0, 0.02, [](double, double) { return 0.0; });
+    const SurfaceGrid after = fill(10.0, 0.02, [&](double x, double y) {
+        const double r = std::hypot(x, y);
+        return b * std::exp(-0.5 * (r - r0) * (r - r0) / (w * w));
+    });
+    ImprintParams p;
+    p.far_inner = 8.0;
+    p.far_outer = 10.0;
+    p.spacing = 0.02;
+    const double expected = 2.0 * kPi * r0 * b * w * std::sqrt(2.0 * kPi);
+    for (double sigma : {0.0, 0.1}) {
+        p.smoothing = sigma;
+        const ImprintMetrics m = measureImprint(before, after, p);
+        // The ring's curvature term (w/r0)² and the grid's (h/w)² are both < 1 %.
+        EXPECT_NEAR(m.v_plus / expected, 1.0, 0.01) << "sigma " << sigma;
+        EXPECT_NEAR(m.v_minus, 0.0, 1e-9);
+    }
+}
+
+TEST(Imprint, EnvelopeOfOneSphereIsItsCap) {
+    const double position[3] = {0.1, -0.2, -1.0};
+    const double radius[1] = {0.5};
+    const SurfaceGrid g = surfaceEnvelope(1, position, radius, Vec3::Zero(), 1.0, 0.05);
+    double top = -1e300;
+    int covered = 0;
+    for (double z : g.z) {
+        if (std::isfinite(z)) {
+            top = std::max(top, z);
+            ++covered;
+        }
+    }
+    EXPECT_NEAR(top, -0.5, 1e-12);                          // a grid node sits on the centre (0.1, −0.2)
+    EXPECT_NEAR(covered * 0.05 * 0.05, kPi * 0.25, 0.03);   // the disc's area, to a grid row
+}
+
+} // namespace
+} // namespace vitrum
