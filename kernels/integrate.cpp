@@ -40,6 +40,9 @@ void drift(const ParticleView& p, double dt) {
 
 void cundallLocalDamping(const ParticleView& p, double alpha) {
     parallelFor("damping.cundall", p.n, [&](std::size_t i) {
+        if (p.flags[i] & kKinematic) {
+            return; // not integrated: damping its force would only falsify the reaction a probe reads off it
+        }
         for (int c = 0; c < 3; ++c) {
             const std::size_t k = 3 * i + c;
             const double v = p.velocity[k];

@@ -15,7 +15,8 @@ void halfKick(const ParticleView& p, double dt);
 void drift(const ParticleView& p, double dt);
 
 /// Cundall local non-viscous damping (Cundall 1987): each force and torque component is reduced by
-/// α |F_k| sign(v_k) (resp. ω_k), opposing the current motion; α ∈ [0, 1).
+/// α |F_k| sign(v_k) (resp. ω_k), opposing the current motion; α ∈ [0, 1). Kinematic particles are left alone
+/// (their force is the reaction probes read).
 void cundallLocalDamping(const ParticleView& p, double alpha);
 
 /// Energies of the particles (nJ), summed deterministically.
