@@ -1,5 +1,7 @@
 #include "kernels/cnem_kernels.hpp"
 
+#include <stdexcept>
+
 #include "kernels/parallel.hpp"
 
 namespace vitrum {
@@ -49,8 +51,12 @@ void cnemCellStrain(const CnemView& v, const double* u, std::size_t cell, double
     symmetricGradient(h, eps);
 }
 
-double cnemInternalForces(const CnemView& v, const IsotropicElasticity& law, const double* u, double* force,
-                          bool want_energy) {
+namespace {
+
+/// The force kernel; kWeighted multiplies each cell's and tet's stress by its weight (Arlequin partition).
+template <bool kWeighted>
+double internalForces(const CnemView& v, const IsotropicElasticity& law, const double* u, double* force,
+                      bool want_energy) {
     const double scni = 1.0 - v.stabilisation;
     const double fem = v.stabilisation;
     double energy = 0.0;
@@ -61,7 +67,8 @@ double cnemInternalForces(const CnemView& v, const IsotropicElasticity& law, con
             cnemCellStrain(v, u, L, eps);
             double* s = v.cell_stress + 6 * L;
             law.stress(eps, s);
-            const double w = scni * v.volume[L];
+            double w = scni * v.volume[L];
+            if constexpr (kWeighted) w *= v.cell_weight[L];
             for (int a = 0; a < 6; ++a) s[a] *= w;
             return w * law.energyDensity(eps);
         };
@@ -78,7 +85,8 @@ double cnemInternalForces(const CnemView& v, const IsotropicElasticity& law, con
             tetStrain(v, u, t, eps);
             double* s = v.tet_stress + 6 * t;
             law.stress(eps, s);
-            const double w = fem * v.tet_volume[t];
+            double w = fem * v.tet_volume[t];
+            if constexpr (kWeighted) w *= v.tet_weight[t];
             for (int a = 0; a < 6; ++a) s[a] *= w;
             return w * law.energyDensity(eps);
         };
@@ -110,6 +118,19 @@ double cnemInternalForces(const CnemView& v, const IsotropicElasticity& law, con
         force[3 * I + 2] = f[2];
     });
     return energy;
+}
+
+} // namespace
+
+double cnemInternalForces(const CnemView& v, const IsotropicElasticity& law, const double* u, double* force,
+                          bool want_energy) {
+    if (v.cell_weight != nullptr || v.tet_weight != nullptr) {
+        if (v.cell_weight == nullptr || v.tet_weight == nullptr) {
+            throw std::invalid_argument("CNEM weights: give both cell_weight and tet_weight, or neither");
+        }
+        return internalForces<true>(v, law, u, force, want_energy);
+    }
+    return internalForces<false>(v, law, u, force, want_energy);
 }
 
 void cnemKick(const CnemStateView& s, double half_dt) {

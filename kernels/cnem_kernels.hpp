@@ -63,6 +63,11 @@ struct CnemView {
     const std::int32_t* node_tet_offset = nullptr; ///< N+1
     const std::int32_t* node_tet_entry = nullptr;  ///< 4·tet + corner
     double stabilisation = 0.0;                    ///< β of K = (1 − β) K_SCNI + β K_FEM
+    // Optional partition weights (a coupling's α_c, note §4.3: cell-averaged per SCNI cell, per tet for the
+    // stabilisation); both null = 1 everywhere. They scale each cell's and tet's energy, so the force stays the
+    // exact gradient of the weighted energy.
+    const double* cell_weight = nullptr; ///< N
+    const double* tet_weight = nullptr;  ///< per tet
     // Scratch written by the force kernel.
     double* cell_stress = nullptr; ///< 6N: (1 − β) V_L σ(ε̃_L)
     double* tet_stress = nullptr;  ///< 6·tets: β V_t σ(ε_t)
