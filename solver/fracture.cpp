@@ -94,7 +94,25 @@ void stressOf(Model& m, const ParticleVolume& volume) {
 
 void computeStress(const Scene& scene, Model& model) {
     model.particles.enableFracture();
+    toolPointForces(model, model.point_forces);
     stressOf(model, particleVolume(scene));
+}
+
+void toolPointForces(const Model& m, PointForces& out) {
+    out.clear();
+    if (!m.indenter) {
+        return;
+    }
+    const std::vector<double>& f = m.indenter->contact_force;
+    for (std::size_t q = 0; q < m.particles.size(); ++q) {
+        const Vec3 force = load3(f.data(), q);
+        const double magnitude = force.norm();
+        if (magnitude > 0.0) {
+            // A frictionless tool pushes along its outward normal, so the contact point is R_i against it.
+            out.add(static_cast<std::int32_t>(q), force,
+                    load3(m.particles.position.data(), q) - m.particles.radius[q] / magnitude * force);
+        }
+    }
 }
 
 void addFracturePhases(Step& step, const Scene& scene, Model& model) {
@@ -112,6 +130,7 @@ void addFracturePhases(Step& step, const Scene& scene, Model& model) {
             return;
         }
         Model& m = c.model;
+        toolPointForces(m, m.point_forces); // effect indenter: the tool's contacts with their branch vectors
         stressOf(m, volume);
         const BondBreakView bonds{m.bonds.size(), m.bonds.i.data(), m.bonds.j.data(), m.bonds.broken.data()};
         applyHydrostaticRelease(law, m.particles.damageView(), m.incidence.view(), bonds, n);

@@ -64,6 +64,11 @@ void addFracturePhases(Step& step, const Scene& scene, Model& model);
 /// model's contacts and point forces.
 void computeStress(const Scene& scene, Model& model);
 
+/// The point forces of the rigid tool (effect indenter) into `out` (cleared first; empty without a tool), in
+/// particle order: each touching particle's tool force at x_i − R_i F/|F|, its contact point for a frictionless
+/// tool (exact to the overlap's δ/2 ≪ R_i; with friction the force leans off the normal by at most atan μ).
+void toolPointForces(const Model& model, PointForces& out);
+
 /// Damage totals: broken bonds and released particles.
 struct DamageTotals {
     long long broken_bonds = 0;

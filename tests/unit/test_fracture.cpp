@@ -88,6 +88,26 @@ TEST(VirialStress, SymmetrisedForBentBondsAndPointForcesUseTheirTrueBranch) {
     EXPECT_LT(s[2], 0.0); // the tool presses on particle 0: compressive zz
 }
 
+TEST(VirialStress, ToolContactsEnterWithTheirContactPoints) {
+    Model m = pair(0.0);
+    m.indenter = Indenter{};
+    m.indenter->contact_force.assign(6, 0.0);
+    m.indenter->contact_force[2] = -3.0; // the tool presses particle 0 down (frictionless: along its normal)
+    PointForces tool;
+    toolPointForces(m, tool);
+    ASSERT_EQ(tool.particle.size(), 1u);
+    EXPECT_EQ(tool.particle[0], 0);
+    EXPECT_EQ(load3(tool.point.data(), 0), Vec3(0.0, 0.0, 0.5)); // the top of particle 0 (R = 0.5)
+    m.particles.enableFracture();
+    Scene s;
+    s.effects = {"elasticity", "fracture"};
+    s.fracture.packing_fraction = 1.0;
+    computeStress(s, m);
+    // σ_zz = (x_c − x)_z F_z / Ω = 0.5 · (−3) / ((4/3)π 0.5³): compressive.
+    EXPECT_NEAR(m.particles.stress[2], 0.5 * -3.0 / ParticleVolume{1.0}.of(0.5), 1e-12);
+    EXPECT_EQ(m.particles.stress[6 + 2], 0.0);
+}
+
 Model lattice(long particles, const std::string& shape = "box") {
     Scene s;
     s.sample.lattice = "fcc";
