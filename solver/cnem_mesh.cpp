@@ -87,8 +87,12 @@ Vec3 circumcentre(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c) {
 /// edges are c_f1 c_f2 for the cavity edges (P, R), f1 and f2 the two boundary facets sharing that edge. With
 /// every facet oriented the same way (the cavity side positive), the edge P→R runs forward in exactly one of
 /// them (f1); Σ over P's edges of ½ n·((c_f1 − o) × (c_f2 − o)) is then the signed area s_P of the polygon (o
-/// any point of its plane, n = (P − x)/|P − x|). φ_P = (s_P/h_P)/Σ(s/h), h_P = |x − P|. Returns false when the
-/// cavity reaches a dropped cell (visibility constraint, §3.2).
+/// any point of its plane, n = (P − x)/|P − x|). φ_P = (s_P/h_P)/Σ(s/h), h_P = |x − P|.
+/// Visibility constraint (§3.2): the cavity never grows into a dropped cell; a dropped cell in conflict with x
+/// bounds the cavity like a non-conflicting one (the CNEMLIB recipe: the search stops at the domain boundary),
+/// which keeps the natural neighbours on x's side of the boundary. The cell polygons still close, so Σφ = 1 and
+/// Σφ x_P = x still hold (the caller checks). Returns false when the constraint was active, i.e. the
+/// unconstrained cavity would have reached a dropped cell.
 bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::vector<std::int32_t>& node,
                    std::vector<double>& value) {
     ConflictScratch& s = tls_scratch;
@@ -109,10 +113,12 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
                 if (st == s.conflict()) continue;
                 if (st != s.clear()) {
                     if (inConflict(m, n, q)) {
-                        st = s.conflict();
-                        if (!m.cell_kept[static_cast<std::size_t>(n)]) visible = false;
-                        s.stack.push_back(n);
-                        continue;
+                        if (m.cell_kept[static_cast<std::size_t>(n)]) {
+                            st = s.conflict();
+                            s.stack.push_back(n);
+                            continue;
+                        }
+                        visible = false; // a dropped cell in conflict: it bounds the cavity
                     }
                     st = s.clear();
                 }
@@ -158,7 +164,7 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
             const Vec3 c2 = s.centre[static_cast<std::size_t>(it->second)] - origin;
             area2 += axis.dot(c1.cross(c2));
         }
-        const double weight = 0.5 * std::abs(area2) / h;
+        const double weight = 0.5 * area2 / h; // signed: the normalisation fixes the global orientation
         node.push_back(p);
         value.push_back(weight);
         total += weight;
@@ -208,8 +214,16 @@ struct ScniEntry {
 /// triangles per edge, each integrated with one Laplace evaluation at its centroid (exact for the linear
 /// part, so Σ_j b̃_j ⊗ x_j = I holds to rounding); on a boundary face each vertex's third of the face with
 /// linear FE (exact integrals: ∫φ_own = 11/54 A, ∫φ_other = 7/108 A over the vertex's third).
-bool scniCellContributions(const CnemMesh& m, std::int32_t cell, std::vector<ScniEntry>& out,
-                           std::vector<std::int32_t>& node, std::vector<double>& value) {
+/// What the evaluations of one cell met: points where the visibility constraint was active, and points whose
+/// shape functions failed the partition-of-unity / linear-precision check (|Σφ − 1|, |Σφ x_P − x|/ℓ > 1e-9,
+/// ℓ the cell's longest edge).
+struct CellStatus {
+    int constrained = 0;
+    int inexact = 0;
+};
+
+CellStatus scniCellContributions(const CnemMesh& m, std::int32_t cell, std::vector<ScniEntry>& out,
+                                 std::vector<std::int32_t>& node, std::vector<double>& value) {
     out.clear();
     const std::size_t c4 = 4 * static_cast<std::size_t>(cell);
     std::array<std::int32_t, 4> v{};
@@ -221,7 +235,11 @@ bool scniCellContributions(const CnemMesh& m, std::int32_t cell, std::vector<Scn
     const Vec3 g = 0.25 * (p[0] + p[1] + p[2] + p[3]);
     std::array<Vec3, 4> face; // centroid of the face opposite vertex k
     for (std::size_t k = 0; k < 4; ++k) face[k] = (g * 4.0 - p[k]) / 3.0;
-    bool visible = true;
+    CellStatus status;
+    double longest = 0.0;
+    for (std::size_t k = 0; k < 4; ++k) {
+        for (std::size_t l = k + 1; l < 4; ++l) longest = std::max(longest, (p[k] - p[l]).norm());
+    }
     for (std::size_t k = 0; k < 4; ++k) {
         for (std::size_t l = k + 1; l < 4; ++l) {
             const Vec3 e = 0.5 * (p[k] + p[l]);
@@ -232,7 +250,14 @@ bool scniCellContributions(const CnemMesh& m, std::int32_t cell, std::vector<Scn
                 Vec3 area = 0.5 * (face[o] - g).cross(e - g);
                 if (area.dot(towards) < 0.0) area = -area;
                 const Vec3 centroid = (g + face[o] + e) / 3.0;
-                if (!laplaceInCell(m, centroid, cell, node, value)) visible = false;
+                if (!laplaceInCell(m, centroid, cell, node, value)) ++status.constrained;
+                double sum = 0.0;
+                Vec3 rep = Vec3::Zero();
+                for (std::size_t a = 0; a < node.size(); ++a) {
+                    sum += value[a];
+                    rep += value[a] * nodeAt(m, node[a]);
+                }
+                if (!(std::abs(sum - 1.0) <= 1e-9 && (rep - centroid).norm() <= 1e-9 * longest)) ++status.inexact;
                 for (std::size_t a = 0; a < node.size(); ++a) {
                     out.push_back({v[k], node[a], value[a] * area});
                     out.push_back({v[l], node[a], -value[a] * area});
@@ -257,7 +282,7 @@ bool scniCellContributions(const CnemMesh& m, std::int32_t cell, std::vector<Scn
             }
         }
     }
-    return visible;
+    return status;
 }
 
 } // namespace
@@ -388,17 +413,18 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
     std::vector<std::vector<std::pair<std::int32_t, Vec3>>> rows(n);
     constexpr std::size_t kBlock = 2048;
     std::vector<std::vector<ScniEntry>> buffer(kBlock);
-    std::vector<std::uint8_t> visible(kBlock);
-    std::size_t violations = 0;
+    std::vector<CellStatus> status(kBlock);
+    std::size_t inexact = 0;
     for (std::size_t first = 0; first < tets; first += kBlock) {
         const std::size_t size = std::min(kBlock, tets - first);
         parallelFor("cnem.scni_table", size, [&](std::size_t k) {
             thread_local std::vector<std::int32_t> node;
             thread_local std::vector<double> value;
-            visible[k] = scniCellContributions(m, kept_cells[first + k], buffer[k], node, value) ? 1 : 0;
+            status[k] = scniCellContributions(m, kept_cells[first + k], buffer[k], node, value);
         });
         for (std::size_t k = 0; k < size; ++k) {
-            if (!visible[k]) ++violations;
+            m.constrained_points += static_cast<std::size_t>(status[k].constrained);
+            inexact += static_cast<std::size_t>(status[k].inexact);
             for (const ScniEntry& e : buffer[k]) {
                 auto& row = rows[static_cast<std::size_t>(e.row)];
                 auto it = std::find_if(row.begin(), row.end(), [&](const auto& x) { return x.first == e.col; });
@@ -407,9 +433,9 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
             }
         }
     }
-    if (violations != 0) {
-        throw std::runtime_error("CNEM visibility constraint violated: " + std::to_string(violations) +
-                                 " cells have SCNI points whose natural neighbours reach outside the domain");
+    if (inexact != 0) {
+        throw std::runtime_error("CNEM shape functions lost linear precision at " + std::to_string(inexact) +
+                                 " SCNI points (visibility-constrained cavity near a concave boundary)");
     }
     m.row_offset.assign(n + 1, 0);
     for (std::size_t i = 0; i < n; ++i) {
@@ -487,7 +513,7 @@ ShapeTable evaluateShapeFunctions(const CnemMesh& mesh, const std::vector<double
         const ShapeValues& r = result[p];
         t.inside[p] = r.inside ? 1 : 0;
         t.visibility_ok[p] = r.visibility_ok ? 1 : 0;
-        if (r.inside && r.visibility_ok) {
+        if (r.inside) {
             t.node.insert(t.node.end(), r.node.begin(), r.node.end());
             t.value.insert(t.value.end(), r.value.begin(), r.value.end());
         }

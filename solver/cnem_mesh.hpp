@@ -7,9 +7,11 @@
 // cell) so that shape functions can be evaluated later at arbitrary points (bridging particles of a coupling).
 //
 // Visibility constraint (§3.2): a cell is *kept* when the domain classifier accepts its centroid; a query
-// point whose Bowyer–Watson conflict zone reaches a dropped cell would couple nodes across a concavity. Every
-// shape-function evaluation checks this and reports it; buildCnemMesh throws if any SCNI quadrature point
-// violates it, so the constraint is asserted, not assumed.
+// point whose Bowyer–Watson conflict zone reached a dropped cell would couple nodes across a concavity. The
+// conflict search therefore never enters a dropped cell (the constrained cavity, as CNEMLIB does), every
+// evaluation reports whether the constraint was active, buildCnemMesh counts those points and checks the
+// partition of unity and linear precision at every SCNI point (it throws if they fail), and
+// checkSphereVisibility tests the bowl property of §3.2 under which the constraint is never active.
 #pragma once
 
 #include <cstddef>
@@ -56,6 +58,10 @@ struct CnemMesh {
     std::vector<double> boundary_normal;     ///< 3 per face, unit outward normal
     std::vector<double> boundary_area;       ///< per face, µm²
 
+    /// SCNI points at which the visibility constraint was active (their unconstrained cavity reached a
+    /// dropped cell; §3.2). 0 for a convex domain and for the cavity domain at the paper's resolution.
+    std::size_t constrained_points = 0;
+
     std::size_t cellCount() const { return cell_kept.size(); }
     std::size_t tetCount() const { return tet_volume.size(); }
     std::size_t entries() const { return column.size(); }
@@ -65,8 +71,8 @@ struct CnemMesh {
 /// Builds the tessellation, the SCNI table (Laplace shape functions at one point per dual-facet triangle,
 /// linear FE on boundary triangles, §3.4) and the stabilisation tetrahedra. `inside` selects the domain's
 /// cells (all finite cells when empty). Throws std::invalid_argument on fewer than 4 nodes, a node in no kept
-/// cell, or duplicate nodes, and std::runtime_error when an SCNI quadrature point violates the visibility
-/// constraint. Deterministic for any thread count.
+/// cell, or duplicate nodes, and std::runtime_error when the shape functions at an SCNI point fail the
+/// partition of unity or linear precision (1e-9). Deterministic for any thread count.
 CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier& inside = {});
 
 /// Natural-neighbour shape functions at one point: nodes and values (sorted by node).
@@ -74,7 +80,7 @@ struct ShapeValues {
     std::vector<std::int32_t> node;
     std::vector<double> value;
     bool inside = false;        ///< the point lies in a kept cell
-    bool visibility_ok = true;  ///< the conflict zone touches no dropped cell (§3.2)
+    bool visibility_ok = true;  ///< the unconstrained conflict zone touches no dropped cell (§3.2)
     std::int32_t cell = -1;     ///< the cell containing the point (hint for the next query)
 };
 
@@ -83,8 +89,8 @@ struct ShapeValues {
 ShapeValues laplaceShapeFunctions(const CnemMesh& mesh, const Vec3& x, std::int32_t hint = -1);
 
 /// Shape functions at many points (e.g. the bridging particles of a coupling), CSR by point: the values of
-/// point p are node[offset[p] .. offset[p+1]) with value[...]; a point outside the domain (or whose conflict
-/// zone violates the visibility constraint: `visibility_ok` false) has an empty row.
+/// point p are node[offset[p] .. offset[p+1]) with value[...]; a point outside the domain has an empty row;
+/// `visibility_ok` is false where the visibility constraint was active (the values are the constrained ones).
 struct ShapeTable {
     std::vector<std::int32_t> offset; ///< points + 1
     std::vector<std::int32_t> node;
@@ -102,7 +108,7 @@ struct VisibilityReport {
     std::size_t dropped_cells = 0;             ///< finite cells outside the domain
     std::size_t dropped_cells_off_surface = 0; ///< of them, cells with a vertex not on the given sphere
     std::size_t samples = 0;                   ///< points tested
-    std::size_t violations = 0;                ///< of them, conflict zones reaching a dropped cell
+    std::size_t violations = 0;                ///< of them, unconstrained conflict zones reaching a dropped cell
 };
 
 /// Checks the bowl property of §3.2: every dropped finite cell has its 4 vertices on the sphere (centre,
