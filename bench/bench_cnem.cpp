@@ -2,10 +2,11 @@
 // (cnemInternalForces: per-cell smoothed strain and stress over the SCNI rows, per-tet stress of the β
 // stabilisation, then the per-node gather over the transpose CSR) and a full central-difference step.
 //
-// Input: jittered cubic clouds (spacing 1 µm, ±0.3 h jitter; the grid order is spatially sorted along x, then y,
-// then z), N = (cells + 1)³ nodes, built once per size (the CGAL preprocessing is not timed). items_processed
-// counts node updates (N per call), so items_per_second is node-updates/s. The second argument is β in
-// percent: 0 (plain SCNI, no tet pass) and 5 (the default blend, one extra pass over ~6 tets per node).
+// Input: jittered cubic clouds (spacing 1 µm, ±0.3 h jitter; the grid order is spatially sorted along x, then
+// y, then z), N = (cells + 1)³ nodes, built once per size (the CGAL preprocessing is not timed).
+// items_processed counts node updates (N per call), so items_per_second is node-updates/s. The second
+// argument is β in percent: 0 (plain SCNI, no tet pass) and 5 (the default blend, one extra pass over ~6 tets
+// per node).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -27,13 +28,15 @@ CnemModel& cachedModel(int nodes, int beta_percent) {
         vitrum::CnemMaterial mat;
         mat.stabilisation = beta_percent / 100.0;
         slot = std::make_unique<CnemModel>(vitrum::makeCnemModel(
-            vitrum::buildCnemMesh(vitrum::jitteredBoxCloud(vitrum::Vec3::Zero(), vitrum::Vec3::Constant(cells),
-                                                           {cells, cells, cells}, 0.3, 1)),
+            vitrum::buildCnemMesh(vitrum::jitteredBoxCloud(
+                vitrum::Vec3::Zero(), vitrum::Vec3::Constant(cells), {cells, cells, cells}, 0.3, 1)),
             mat));
         std::mt19937_64 rng(3);
         std::normal_distribution<double> g(0.0, 1e-3);
-        for (double& u : slot->displacement) u = g(rng);
-        for (double& v : slot->velocity) v = g(rng);
+        for (double& u : slot->displacement)
+            u = g(rng);
+        for (double& v : slot->velocity)
+            v = g(rng);
     }
     return *slot;
 }
@@ -48,7 +51,8 @@ void BM_CnemInternalForces(benchmark::State& state) {
     }
     state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(m.nodes()));
     state.counters["nodes"] = static_cast<double>(m.nodes());
-    state.counters["entries_per_row"] = static_cast<double>(m.mesh.entries()) / static_cast<double>(m.nodes());
+    state.counters["entries_per_row"] =
+        static_cast<double>(m.mesh.entries()) / static_cast<double>(m.nodes());
     state.counters["tets_per_node"] = static_cast<double>(m.mesh.tetCount()) / static_cast<double>(m.nodes());
 }
 

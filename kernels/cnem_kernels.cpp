@@ -20,7 +20,8 @@ inline void symmetricGradient(const double (&h)[3][3], double* eps) {
 
 inline void addOuter(double (&h)[3][3], const double* u, const double* g) {
     for (int a = 0; a < 3; ++a) {
-        for (int b = 0; b < 3; ++b) h[a][b] += u[a] * g[b];
+        for (int b = 0; b < 3; ++b)
+            h[a][b] += u[a] * g[b];
     }
 }
 
@@ -68,8 +69,10 @@ double internalForces(const CnemView& v, const IsotropicElasticity& law, const d
             double* s = v.cell_stress + 6 * L;
             law.stress(eps, s);
             double w = scni * v.volume[L];
-            if constexpr (kWeighted) w *= v.cell_weight[L];
-            for (int a = 0; a < 6; ++a) s[a] *= w;
+            if constexpr (kWeighted)
+                w *= v.cell_weight[L];
+            for (int a = 0; a < 6; ++a)
+                s[a] *= w;
             return w * law.energyDensity(eps);
         };
         if (want_energy) {
@@ -86,8 +89,10 @@ double internalForces(const CnemView& v, const IsotropicElasticity& law, const d
             double* s = v.tet_stress + 6 * t;
             law.stress(eps, s);
             double w = fem * v.tet_volume[t];
-            if constexpr (kWeighted) w *= v.tet_weight[t];
-            for (int a = 0; a < 6; ++a) s[a] *= w;
+            if constexpr (kWeighted)
+                w *= v.tet_weight[t];
+            for (int a = 0; a < 6; ++a)
+                s[a] *= w;
             return w * law.energyDensity(eps);
         };
         if (want_energy) {
@@ -137,7 +142,8 @@ void cnemKick(const CnemStateView& s, double half_dt) {
     parallelFor("cnem.kick", s.nodes, [&](std::size_t i) {
         const double inv_m = 1.0 / s.mass[i];
         for (std::size_t a = 3 * i; a < 3 * i + 3; ++a) {
-            s.velocity[a] = s.fixed[a] ? s.prescribed_velocity[a] : s.velocity[a] + half_dt * s.force[a] * inv_m;
+            s.velocity[a] =
+                s.fixed[a] ? s.prescribed_velocity[a] : s.velocity[a] + half_dt * s.force[a] * inv_m;
         }
     });
 }
@@ -146,7 +152,8 @@ void cnemKickDrift(const CnemStateView& s, double half_dt, double dt) {
     parallelFor("cnem.kick_drift", s.nodes, [&](std::size_t i) {
         const double inv_m = 1.0 / s.mass[i];
         for (std::size_t a = 3 * i; a < 3 * i + 3; ++a) {
-            s.velocity[a] = s.fixed[a] ? s.prescribed_velocity[a] : s.velocity[a] + half_dt * s.force[a] * inv_m;
+            s.velocity[a] =
+                s.fixed[a] ? s.prescribed_velocity[a] : s.velocity[a] + half_dt * s.force[a] * inv_m;
             s.displacement[a] += dt * s.velocity[a];
         }
     });
@@ -154,7 +161,8 @@ void cnemKickDrift(const CnemStateView& s, double half_dt, double dt) {
 
 void cnemDrift(const CnemStateView& s, double dt) {
     parallelFor("cnem.drift", s.nodes, [&](std::size_t i) {
-        for (std::size_t a = 3 * i; a < 3 * i + 3; ++a) s.displacement[a] += dt * s.velocity[a];
+        for (std::size_t a = 3 * i; a < 3 * i + 3; ++a)
+            s.displacement[a] += dt * s.velocity[a];
     });
 }
 

@@ -32,8 +32,10 @@ struct IsotropicElasticity {
     double pWaveModulus() const { return lambda + 2.0 * mu; }
     void stress(const double* eps, double* sigma) const {
         const double tr = eps[0] + eps[1] + eps[2];
-        for (int a = 0; a < 3; ++a) sigma[a] = lambda * tr + 2.0 * mu * eps[a];
-        for (int a = 3; a < 6; ++a) sigma[a] = 2.0 * mu * eps[a];
+        for (int a = 0; a < 3; ++a)
+            sigma[a] = lambda * tr + 2.0 * mu * eps[a];
+        for (int a = 3; a < 6; ++a)
+            sigma[a] = 2.0 * mu * eps[a];
     }
     /// Strain energy density ½ ε:C:ε (GPa = nJ/µm³).
     double energyDensity(const double* eps) const {
@@ -64,8 +66,8 @@ struct CnemView {
     const std::int32_t* node_tet_entry = nullptr;  ///< 4·tet + corner
     double stabilisation = 0.0;                    ///< β of K = (1 − β) K_SCNI + β K_FEM
     // Optional partition weights (a coupling's α_c, note §4.3: cell-averaged per SCNI cell, per tet for the
-    // stabilisation); both null = 1 everywhere. They scale each cell's and tet's energy, so the force stays the
-    // exact gradient of the weighted energy.
+    // stabilisation); both null = 1 everywhere. They scale each cell's and tet's energy, so the force stays
+    // the exact gradient of the weighted energy.
     const double* cell_weight = nullptr; ///< N
     const double* tet_weight = nullptr;  ///< per tet
     // Scratch written by the force kernel.

@@ -60,16 +60,18 @@ CnemModel makeCnemModel(CnemMesh mesh, const CnemMaterial& material) {
     m.fixed.assign(3 * n, 0);
     m.prescribed_velocity.assign(3 * n, 0.0);
     m.mass.resize(n);
-    for (std::size_t i = 0; i < n; ++i) m.mass[i] = material.density * m.mesh.volume[i]; // §3.5: M = ρ V_L
+    for (std::size_t i = 0; i < n; ++i)
+        m.mass[i] = material.density * m.mesh.volume[i]; // §3.5: M = ρ V_L
     m.cell_stress.assign(6 * n, 0.0);
     m.tet_stress.assign(6 * m.mesh.tetCount(), 0.0);
     return m;
 }
 
 double computeCnemForces(CnemModel& model, bool want_energy) {
-    const double energy =
-        cnemInternalForces(model.tables(), model.law, model.displacement.data(), model.force.data(), want_energy);
-    for (std::size_t a = 0; a < model.force.size(); ++a) model.force[a] += model.external_force[a];
+    const double energy = cnemInternalForces(model.tables(), model.law, model.displacement.data(),
+                                             model.force.data(), want_energy);
+    for (std::size_t a = 0; a < model.force.size(); ++a)
+        model.force[a] += model.external_force[a];
     return energy;
 }
 
@@ -80,13 +82,16 @@ void stepCnem(CnemModel& model, double dt) {
     cnemKick(s, 0.5 * dt);
 }
 
-double cnemKineticEnergy(CnemModel& model) { return cnemKineticEnergy(model.state()); }
+double cnemKineticEnergy(CnemModel& model) {
+    return cnemKineticEnergy(model.state());
+}
 
 void fixCnemNodes(CnemModel& model, const std::vector<std::int32_t>& nodes, std::array<bool, 3> axes,
                   const Vec3& velocity) {
     for (std::int32_t node : nodes) {
         for (std::size_t a = 0; a < 3; ++a) {
-            if (!axes[a]) continue;
+            if (!axes[a])
+                continue;
             const std::size_t dof = 3 * static_cast<std::size_t>(node) + a;
             model.fixed[dof] = 1;
             model.prescribed_velocity[dof] = velocity[static_cast<Eigen::Index>(a)];
@@ -100,12 +105,14 @@ namespace {
 /// y = K x (the negative of the internal forces of the displacement x); uses the model's scratch.
 void applyStiffness(CnemModel& model, const std::vector<double>& x, std::vector<double>& y) {
     cnemInternalForces(model.tables(), model.law, x.data(), y.data());
-    for (double& v : y) v = -v;
+    for (double& v : y)
+        v = -v;
 }
 
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
     double s = 0.0;
-    for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+    for (std::size_t i = 0; i < a.size(); ++i)
+        s += a[i] * b[i];
     return s;
 }
 
@@ -121,22 +128,29 @@ CnemFrequency cnemHighestFrequency(CnemModel& model, int max_iterations, double 
         x[a] = model.fixed[a] ? 0.0 : uni(rng);
     }
     double norm = std::sqrt(dot(x, x));
-    if (norm == 0.0) throw std::invalid_argument("CNEM model has no free DOF");
-    for (double& v : x) v /= norm;
+    if (norm == 0.0)
+        throw std::invalid_argument("CNEM model has no free DOF");
+    for (double& v : x)
+        v /= norm;
     CnemFrequency out;
     double lambda = 0.0, residual = 0.0;
     for (int it = 1; it <= max_iterations; ++it) {
-        for (std::size_t a = 0; a < dofs; ++a) z[a] = x[a] * inv_sqrt_m[a];
+        for (std::size_t a = 0; a < dofs; ++a)
+            z[a] = x[a] * inv_sqrt_m[a];
         applyStiffness(model, z, y);
-        for (std::size_t a = 0; a < dofs; ++a) y[a] *= inv_sqrt_m[a];
+        for (std::size_t a = 0; a < dofs; ++a)
+            y[a] *= inv_sqrt_m[a];
         lambda = dot(x, y);
         double r2 = 0.0;
-        for (std::size_t a = 0; a < dofs; ++a) r2 += (y[a] - lambda * x[a]) * (y[a] - lambda * x[a]);
+        for (std::size_t a = 0; a < dofs; ++a)
+            r2 += (y[a] - lambda * x[a]) * (y[a] - lambda * x[a]);
         residual = std::sqrt(r2);
         out.iterations = it;
-        if (residual < tolerance * lambda) break;
+        if (residual < tolerance * lambda)
+            break;
         norm = std::sqrt(dot(y, y));
-        for (std::size_t a = 0; a < dofs; ++a) x[a] = y[a] / norm;
+        for (std::size_t a = 0; a < dofs; ++a)
+            x[a] = y[a] / norm;
     }
     out.omega_rayleigh = std::sqrt(lambda);
     out.omega = std::sqrt(lambda + residual);
@@ -149,52 +163,66 @@ int solveCnemStatic(CnemModel& model, double tolerance, int max_iterations) {
     const CnemMesh& m = model.mesh;
     const IsotropicElasticity& c = model.law;
     const double beta = model.material.stabilisation;
-    // Jacobi preconditioner: the diagonal of K, K_II[a][a] = Σ V (λ b_a² + µ|b|² + µ b_a²) over the SCNI cells
-    // and the tets that see node I.
+    // Jacobi preconditioner: the diagonal of K, K_II[a][a] = Σ V (λ b_a² + µ|b|² + µ b_a²) over the SCNI
+    // cells and the tets that see node I.
     std::vector<double> diag(dofs, 0.0);
     for (std::size_t i = 0; i < m.nodes; ++i) {
         for (std::int32_t e = m.transpose_offset[i]; e < m.transpose_offset[i + 1]; ++e) {
-            const Vec3 b = load3(m.gradient.data(), static_cast<std::size_t>(m.transpose_entry[static_cast<std::size_t>(e)]));
-            const double w = (1.0 - beta) * m.volume[static_cast<std::size_t>(m.transpose_row[static_cast<std::size_t>(e)])];
-            for (int a = 0; a < 3; ++a) diag[3 * i + static_cast<std::size_t>(a)] += w * ((c.lambda + c.mu) * b[a] * b[a] + c.mu * b.squaredNorm());
+            const Vec3 b = load3(m.gradient.data(),
+                                 static_cast<std::size_t>(m.transpose_entry[static_cast<std::size_t>(e)]));
+            const double w = (1.0 - beta) *
+                             m.volume[static_cast<std::size_t>(m.transpose_row[static_cast<std::size_t>(e)])];
+            for (int a = 0; a < 3; ++a)
+                diag[3 * i + static_cast<std::size_t>(a)] +=
+                    w * ((c.lambda + c.mu) * b[a] * b[a] + c.mu * b.squaredNorm());
         }
         for (std::int32_t e = m.node_tet_offset[i]; e < m.node_tet_offset[i + 1]; ++e) {
             const std::size_t entry = static_cast<std::size_t>(m.node_tet_entry[static_cast<std::size_t>(e)]);
             const Vec3 g = load3(m.tet_gradient.data(), entry);
             const double w = beta * m.tet_volume[entry / 4];
-            for (int a = 0; a < 3; ++a) diag[3 * i + static_cast<std::size_t>(a)] += w * ((c.lambda + c.mu) * g[a] * g[a] + c.mu * g.squaredNorm());
+            for (int a = 0; a < 3; ++a)
+                diag[3 * i + static_cast<std::size_t>(a)] +=
+                    w * ((c.lambda + c.mu) * g[a] * g[a] + c.mu * g.squaredNorm());
         }
     }
     std::vector<double> r(dofs), z(dofs), p(dofs), q(dofs);
     // r = f_ext − K u (the fixed DOFs' displacements enter through K u).
     cnemInternalForces(model.tables(), model.law, model.displacement.data(), r.data());
-    for (std::size_t a = 0; a < dofs; ++a) r[a] = model.fixed[a] ? 0.0 : r[a] + model.external_force[a];
+    for (std::size_t a = 0; a < dofs; ++a)
+        r[a] = model.fixed[a] ? 0.0 : r[a] + model.external_force[a];
     double reference = 0.0;
     for (std::size_t a = 0; a < dofs; ++a) {
-        if (!model.fixed[a]) reference += std::pow(model.external_force[a], 2);
+        if (!model.fixed[a])
+            reference += std::pow(model.external_force[a], 2);
     }
     // Scale: the larger of the load and the initial residual, so a pure-Dirichlet problem has a scale too.
     reference = std::max(std::sqrt(reference), std::sqrt(dot(r, r)));
-    if (reference == 0.0) return 0;
-    for (std::size_t a = 0; a < dofs; ++a) z[a] = model.fixed[a] ? 0.0 : r[a] / diag[a];
+    if (reference == 0.0)
+        return 0;
+    for (std::size_t a = 0; a < dofs; ++a)
+        z[a] = model.fixed[a] ? 0.0 : r[a] / diag[a];
     p = z;
     double rz = dot(r, z);
     for (int it = 1; it <= max_iterations; ++it) {
         applyStiffness(model, p, q);
         for (std::size_t a = 0; a < dofs; ++a) {
-            if (model.fixed[a]) q[a] = 0.0;
+            if (model.fixed[a])
+                q[a] = 0.0;
         }
         const double alpha = rz / dot(p, q);
         for (std::size_t a = 0; a < dofs; ++a) {
             model.displacement[a] += alpha * p[a];
             r[a] -= alpha * q[a];
         }
-        if (std::sqrt(dot(r, r)) < tolerance * reference) return it;
-        for (std::size_t a = 0; a < dofs; ++a) z[a] = model.fixed[a] ? 0.0 : r[a] / diag[a];
+        if (std::sqrt(dot(r, r)) < tolerance * reference)
+            return it;
+        for (std::size_t a = 0; a < dofs; ++a)
+            z[a] = model.fixed[a] ? 0.0 : r[a] / diag[a];
         const double rz_new = dot(r, z);
         const double b = rz_new / rz;
         rz = rz_new;
-        for (std::size_t a = 0; a < dofs; ++a) p[a] = z[a] + b * p[a];
+        for (std::size_t a = 0; a < dofs; ++a)
+            p[a] = z[a] + b * p[a];
     }
     throw std::runtime_error("CNEM static solve did not converge in " + std::to_string(max_iterations) +
                              " iterations");
@@ -214,7 +242,8 @@ std::vector<double> jitteredBoxCloud(const Vec3& lo, const Vec3& hi, std::array<
                 for (int a = 0; a < 3; ++a) {
                     const int n = idx[static_cast<std::size_t>(a)];
                     double x = (n == cells[static_cast<std::size_t>(a)]) ? hi[a] : lo[a] + n * h[a];
-                    if (n > 0 && n < cells[static_cast<std::size_t>(a)]) x += jitter * h[a] * uni(rng);
+                    if (n > 0 && n < cells[static_cast<std::size_t>(a)])
+                        x += jitter * h[a] * uni(rng);
                     out.push_back(x);
                 }
             }
@@ -230,14 +259,15 @@ std::vector<double> indentationNodes(const IndentationDomainSpec& s, int cells) 
     const int nxy = cells;
     const int nz = nxy;
     const double hg = s.box / nxy;
-    std::vector<double> grid = jitteredBoxCloud(Vec3(-half, -half, -s.box), Vec3(half, half, 0.0), {nxy, nxy, nz},
-                                                s.jitter, s.seed);
+    std::vector<double> grid =
+        jitteredBoxCloud(Vec3(-half, -half, -s.box), Vec3(half, half, 0.0), {nxy, nxy, nz}, s.jitter, s.seed);
     std::vector<double> out;
     const double keep = s.radius + 0.4 * hg;
     for (std::size_t i = 0; 3 * i < grid.size(); ++i) {
         const Vec3 x = load3(grid.data(), i);
         if (x.norm() >= keep) {
-            for (int a = 0; a < 3; ++a) out.push_back(x[a]);
+            for (int a = 0; a < 3; ++a)
+                out.push_back(x[a]);
         }
     }
     // Cavity nodes on latitude rings of the sphere (polar angle θ from the bottom pole, θ = π/2 the rim at
@@ -270,7 +300,8 @@ NodeCloud indentationDomainCloud(const IndentationDomainSpec& spec) {
     const double pi = std::numbers::pi;
     const double volume = spec.box * spec.box * spec.box - 2.0 / 3.0 * pi * std::pow(spec.radius, 3);
     // Grid cells per side: the count whose cloud is closest to the target, searched about the estimate.
-    const int estimate = static_cast<int>(std::lround(spec.box / std::cbrt(volume / static_cast<double>(spec.nodes))));
+    const int estimate =
+        static_cast<int>(std::lround(spec.box / std::cbrt(volume / static_cast<double>(spec.nodes))));
     NodeCloud cloud;
     int best = -1;
     double best_gap = 0.0;

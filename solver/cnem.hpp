@@ -66,14 +66,15 @@ void fixCnemNodes(CnemModel& model, const std::vector<std::int32_t>& nodes, std:
 
 /// Adds a uniform traction t (GPa) on the boundary faces whose centroid and outward normal satisfy `select`:
 /// each face vertex gets t A/3 (linear FE on the face, consistent with the SCNI boundary facets).
-template <class Select>
-void addCnemTraction(CnemModel& model, Select&& select, const Vec3& traction) {
+template <class Select> void addCnemTraction(CnemModel& model, Select&& select, const Vec3& traction) {
     const CnemMesh& m = model.mesh;
     for (std::size_t f = 0; f < m.boundaryFaceCount(); ++f) {
         Vec3 centroid = Vec3::Zero();
-        for (std::size_t k = 0; k < 3; ++k) centroid += load3(m.position.data(), static_cast<std::size_t>(m.boundary_face[3 * f + k]));
+        for (std::size_t k = 0; k < 3; ++k)
+            centroid += load3(m.position.data(), static_cast<std::size_t>(m.boundary_face[3 * f + k]));
         centroid /= 3.0;
-        if (!select(centroid, load3(m.boundary_normal.data(), f))) continue;
+        if (!select(centroid, load3(m.boundary_normal.data(), f)))
+            continue;
         const Vec3 share = traction * (m.boundary_area[f] / 3.0);
         for (std::size_t k = 0; k < 3; ++k) {
             const std::size_t node = static_cast<std::size_t>(m.boundary_face[3 * f + k]);
@@ -108,10 +109,10 @@ std::vector<double> jitteredBoxCloud(const Vec3& lo, const Vec3& hi, std::array<
 /// r ≥ R + 0.4h; cavity nodes exactly on r = R (latitude rings, the rim ring at z = 0), so the unconstrained
 /// Delaunay conforms to the cavity (§3.2, checked by checkSphereVisibility).
 struct IndentationDomainSpec {
-    double box = 30.0;          ///< a, µm
-    double radius = 12.0;       ///< R, µm
-    std::size_t nodes = 10000;  ///< target node count (h is tuned to it)
-    double jitter = 0.3;        ///< interior jitter, fraction of h
+    double box = 30.0;         ///< a, µm
+    double radius = 12.0;      ///< R, µm
+    std::size_t nodes = 10000; ///< target node count (h is tuned to it)
+    double jitter = 0.3;       ///< interior jitter, fraction of h
     unsigned seed = 1;
 };
 struct NodeCloud {

@@ -36,8 +36,12 @@ Point pointOf(const CnemMesh& m, std::int32_t node) {
     const double* p = m.position.data() + 3 * static_cast<std::size_t>(node);
     return Point(p[0], p[1], p[2]);
 }
-Point pointOf(const Vec3& x) { return Point(x.x(), x.y(), x.z()); }
-Vec3 nodeAt(const CnemMesh& m, std::int32_t node) { return load3(m.position.data(), static_cast<std::size_t>(node)); }
+Point pointOf(const Vec3& x) {
+    return Point(x.x(), x.y(), x.z());
+}
+Vec3 nodeAt(const CnemMesh& m, std::int32_t node) {
+    return load3(m.position.data(), static_cast<std::size_t>(node));
+}
 
 /// Per-thread scratch of a Bowyer–Watson conflict search: a stamp per cell (2·epoch: in conflict,
 /// 2·epoch + 1: tested, not in conflict), the stack, the cavity's boundary facets and the Voronoi vertices.
@@ -45,11 +49,12 @@ struct ConflictScratch {
     std::vector<std::uint32_t> stamp;
     std::uint32_t epoch = 0;
     std::vector<std::int32_t> stack;
-    std::vector<Vec3> centre;                          // per cavity boundary facet: its Voronoi vertex
+    std::vector<Vec3> centre;                                 // per cavity boundary facet: its Voronoi vertex
     std::vector<std::pair<std::uint64_t, std::int32_t>> edge; // (tail << 32 | head, facet) per directed edge
 
     void begin(std::size_t cells) {
-        if (stamp.size() < cells) stamp.assign(cells, 0);
+        if (stamp.size() < cells)
+            stamp.assign(cells, 0);
         if (epoch >= (std::numeric_limits<std::uint32_t>::max() >> 1) - 2) {
             std::fill(stamp.begin(), stamp.end(), 0u);
             epoch = 0;
@@ -65,12 +70,12 @@ struct ConflictScratch {
 
 thread_local ConflictScratch tls_scratch;
 
-/// Strictly inside the circumsphere of a (positively oriented) cell. The oriented predicate has EPICK's static
-/// filter (side_of_bounded_sphere falls back to interval arithmetic every time: 3× slower here).
+/// Strictly inside the circumsphere of a (positively oriented) cell. The oriented predicate has EPICK's
+/// static filter (side_of_bounded_sphere falls back to interval arithmetic every time: 3× slower here).
 bool inConflict(const CnemMesh& m, std::int32_t cell, const Point& q) {
     const std::int32_t* v = m.cell_vertex.data() + 4 * static_cast<std::size_t>(cell);
-    return CGAL::side_of_oriented_sphere(pointOf(m, v[0]), pointOf(m, v[1]), pointOf(m, v[2]), pointOf(m, v[3]),
-                                         q) == CGAL::ON_POSITIVE_SIDE;
+    return CGAL::side_of_oriented_sphere(pointOf(m, v[0]), pointOf(m, v[1]), pointOf(m, v[2]),
+                                         pointOf(m, v[3]), q) == CGAL::ON_POSITIVE_SIDE;
 }
 
 /// Circumcentre of the tetrahedron (x, a, b, c), computed relative to x.
@@ -88,11 +93,11 @@ Vec3 circumcentre(const Vec3& x, const Vec3& a, const Vec3& b, const Vec3& c) {
 /// every facet oriented the same way (the cavity side positive), the edge P→R runs forward in exactly one of
 /// them (f1); Σ over P's edges of ½ n·((c_f1 − o) × (c_f2 − o)) is then the signed area s_P of the polygon (o
 /// any point of its plane, n = (P − x)/|P − x|). φ_P = (s_P/h_P)/Σ(s/h), h_P = |x − P|.
-/// Visibility constraint (§3.2): the cavity never grows into a dropped cell; a dropped cell in conflict with x
-/// bounds the cavity like a non-conflicting one (the CNEMLIB recipe: the search stops at the domain boundary),
-/// which keeps the natural neighbours on x's side of the boundary. The cell polygons still close, so Σφ = 1 and
-/// Σφ x_P = x still hold (the caller checks). Returns false when the constraint was active, i.e. the
-/// unconstrained cavity would have reached a dropped cell.
+/// Visibility constraint (§3.2): the cavity never grows into a dropped cell; a dropped cell in conflict with
+/// x bounds the cavity like a non-conflicting one (the CNEMLIB recipe: the search stops at the domain
+/// boundary), which keeps the natural neighbours on x's side of the boundary. The cell polygons still close,
+/// so Σφ = 1 and Σφ x_P = x still hold (the caller checks). Returns false when the constraint was active,
+/// i.e. the unconstrained cavity would have reached a dropped cell.
 bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::vector<std::int32_t>& node,
                    std::vector<double>& value) {
     ConflictScratch& s = tls_scratch;
@@ -110,7 +115,8 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
             if (n >= 0) {
                 // (a hull facet, n < 0, always bounds the cavity: x is inside the hull)
                 std::uint32_t& st = s.stamp[static_cast<std::size_t>(n)];
-                if (st == s.conflict()) continue;
+                if (st == s.conflict())
+                    continue;
                 if (st != s.clear()) {
                     if (inConflict(m, n, q)) {
                         if (m.cell_kept[static_cast<std::size_t>(n)]) {
@@ -129,7 +135,8 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
             std::int32_t f[3] = {m.cell_vertex[c4 + static_cast<std::size_t>((i + 1) & 3)],
                                  m.cell_vertex[c4 + static_cast<std::size_t>((i + 2) & 3)],
                                  m.cell_vertex[c4 + static_cast<std::size_t>((i + 3) & 3)]};
-            if ((i & 1) == 0) std::swap(f[1], f[2]);
+            if ((i & 1) == 0)
+                std::swap(f[1], f[2]);
             const std::int32_t id = static_cast<std::int32_t>(s.centre.size());
             s.centre.push_back(circumcentre(x, nodeAt(m, f[0]), nodeAt(m, f[1]), nodeAt(m, f[2])));
             for (int k = 0; k < 3; ++k) {
@@ -146,7 +153,8 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
     for (std::size_t begin = 0; begin < s.edge.size();) {
         const std::uint64_t tail = s.edge[begin].first >> 32;
         std::size_t end = begin;
-        while (end < s.edge.size() && (s.edge[end].first >> 32) == tail) ++end;
+        while (end < s.edge.size() && (s.edge[end].first >> 32) == tail)
+            ++end;
         const std::int32_t p = static_cast<std::int32_t>(tail);
         const Vec3 d = nodeAt(m, p) - x;
         const double h = d.norm();
@@ -156,7 +164,8 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
         for (std::size_t k = begin; k < end; ++k) {
             const std::uint64_t head = s.edge[k].first & 0xffffffffu;
             const std::uint64_t reverse = (head << 32) | tail;
-            const auto it = std::lower_bound(s.edge.begin(), s.edge.end(), std::make_pair(reverse, std::int32_t{-1}));
+            const auto it =
+                std::lower_bound(s.edge.begin(), s.edge.end(), std::make_pair(reverse, std::int32_t{-1}));
             if (it == s.edge.end() || it->first != reverse) {
                 throw std::logic_error("CNEM cavity surface is not closed");
             }
@@ -170,20 +179,23 @@ bool laplaceInCell(const CnemMesh& m, const Vec3& x, std::int32_t start, std::ve
         total += weight;
         begin = end;
     }
-    for (double& v : value) v /= total;
+    for (double& v : value)
+        v /= total;
     return visible;
 }
 
 /// Walk (visibility walk, exact orientation tests) from `hint` to the cell containing x; −1 outside the hull.
 std::int32_t locate(const CnemMesh& m, const Vec3& x, std::int32_t hint) {
-    if (m.cellCount() == 0) return -1;
+    if (m.cellCount() == 0)
+        return -1;
     std::int32_t c = (hint >= 0 && static_cast<std::size_t>(hint) < m.cellCount()) ? hint : 0;
     const Point q = pointOf(x);
     int rotate = 0;
     for (std::size_t steps = 0; steps <= 4 * m.cellCount(); ++steps) {
         const std::size_t c4 = 4 * static_cast<std::size_t>(c);
         std::array<Point, 4> p;
-        for (int k = 0; k < 4; ++k) p[static_cast<std::size_t>(k)] = pointOf(m, m.cell_vertex[c4 + static_cast<std::size_t>(k)]);
+        for (int k = 0; k < 4; ++k)
+            p[static_cast<std::size_t>(k)] = pointOf(m, m.cell_vertex[c4 + static_cast<std::size_t>(k)]);
         bool moved = false;
         for (int k = 0; k < 4; ++k) {
             const int i = (k + rotate) & 3;
@@ -191,13 +203,15 @@ std::int32_t locate(const CnemMesh& m, const Vec3& x, std::int32_t hint) {
             t[static_cast<std::size_t>(i)] = q;
             if (CGAL::orientation(t[0], t[1], t[2], t[3]) == CGAL::NEGATIVE) {
                 const std::int32_t n = m.cell_neighbour[c4 + static_cast<std::size_t>(i)];
-                if (n < 0) return -1;
+                if (n < 0)
+                    return -1;
                 c = n;
                 moved = true;
                 break;
             }
         }
-        if (!moved) return c;
+        if (!moved)
+            return c;
         rotate = (rotate + 1) & 3;
     }
     throw std::logic_error("CNEM point location did not terminate");
@@ -234,30 +248,37 @@ CellStatus scniCellContributions(const CnemMesh& m, std::int32_t cell, std::vect
     }
     const Vec3 g = 0.25 * (p[0] + p[1] + p[2] + p[3]);
     std::array<Vec3, 4> face; // centroid of the face opposite vertex k
-    for (std::size_t k = 0; k < 4; ++k) face[k] = (g * 4.0 - p[k]) / 3.0;
+    for (std::size_t k = 0; k < 4; ++k)
+        face[k] = (g * 4.0 - p[k]) / 3.0;
     CellStatus status;
     double longest = 0.0;
     for (std::size_t k = 0; k < 4; ++k) {
-        for (std::size_t l = k + 1; l < 4; ++l) longest = std::max(longest, (p[k] - p[l]).norm());
+        for (std::size_t l = k + 1; l < 4; ++l)
+            longest = std::max(longest, (p[k] - p[l]).norm());
     }
     for (std::size_t k = 0; k < 4; ++k) {
         for (std::size_t l = k + 1; l < 4; ++l) {
             const Vec3 e = 0.5 * (p[k] + p[l]);
             const Vec3 towards = p[l] - p[k];
             for (std::size_t o = 0; o < 4; ++o) {
-                if (o == k || o == l) continue;
-                // Triangle (G, F_o, E_kl): F_o is the centroid of the face opposite o, which contains k and l.
+                if (o == k || o == l)
+                    continue;
+                // Triangle (G, F_o, E_kl): F_o is the centroid of the face opposite o, which contains k and
+                // l.
                 Vec3 area = 0.5 * (face[o] - g).cross(e - g);
-                if (area.dot(towards) < 0.0) area = -area;
+                if (area.dot(towards) < 0.0)
+                    area = -area;
                 const Vec3 centroid = (g + face[o] + e) / 3.0;
-                if (!laplaceInCell(m, centroid, cell, node, value)) ++status.constrained;
+                if (!laplaceInCell(m, centroid, cell, node, value))
+                    ++status.constrained;
                 double sum = 0.0;
                 Vec3 rep = Vec3::Zero();
                 for (std::size_t a = 0; a < node.size(); ++a) {
                     sum += value[a];
                     rep += value[a] * nodeAt(m, node[a]);
                 }
-                if (!(std::abs(sum - 1.0) <= 1e-9 && (rep - centroid).norm() <= 1e-9 * longest)) ++status.inexact;
+                if (!(std::abs(sum - 1.0) <= 1e-9 && (rep - centroid).norm() <= 1e-9 * longest))
+                    ++status.inexact;
                 for (std::size_t a = 0; a < node.size(); ++a) {
                     out.push_back({v[k], node[a], value[a] * area});
                     out.push_back({v[l], node[a], -value[a] * area});
@@ -267,14 +288,17 @@ CellStatus scniCellContributions(const CnemMesh& m, std::int32_t cell, std::vect
     }
     for (std::size_t o = 0; o < 4; ++o) {
         const std::int32_t n = m.cell_neighbour[c4 + o];
-        if (n >= 0 && m.cell_kept[static_cast<std::size_t>(n)]) continue;
+        if (n >= 0 && m.cell_kept[static_cast<std::size_t>(n)])
+            continue;
         std::array<std::size_t, 3> f{};
         std::size_t k = 0;
         for (std::size_t j = 0; j < 4; ++j) {
-            if (j != o) f[k++] = j;
+            if (j != o)
+                f[k++] = j;
         }
         Vec3 area = 0.5 * (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]);
-        if (area.dot(face[o] - p[o]) < 0.0) area = -area;
+        if (area.dot(face[o] - p[o]) < 0.0)
+            area = -area;
         for (std::size_t a = 0; a < 3; ++a) {
             for (std::size_t b = 0; b < 3; ++b) {
                 const double share = (a == b) ? 11.0 / 54.0 : 7.0 / 108.0;
@@ -303,11 +327,14 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
                             static_cast<std::int32_t>(i));
     }
     Delaunay dt(points.begin(), points.end());
-    if (dt.number_of_vertices() != n) throw std::invalid_argument("CNEM node cloud has coincident nodes");
-    if (dt.dimension() != 3) throw std::invalid_argument("CNEM node cloud spans no volume");
+    if (dt.number_of_vertices() != n)
+        throw std::invalid_argument("CNEM node cloud has coincident nodes");
+    if (dt.dimension() != 3)
+        throw std::invalid_argument("CNEM node cloud spans no volume");
 
     std::int32_t count = 0;
-    for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) c->info() = count++;
+    for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
+        c->info() = count++;
     const std::size_t cells = static_cast<std::size_t>(count);
     m.cell_vertex.resize(4 * cells);
     m.cell_neighbour.resize(4 * cells);
@@ -327,13 +354,15 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
     // Stabilisation tetrahedra: the kept cells, with their linear-FE gradients.
     std::vector<std::int32_t> kept_cells;
     for (std::size_t c = 0; c < cells; ++c) {
-        if (m.cell_kept[c]) kept_cells.push_back(static_cast<std::int32_t>(c));
+        if (m.cell_kept[c])
+            kept_cells.push_back(static_cast<std::int32_t>(c));
     }
     // Tet order for the force kernel's locality: by smallest, then next vertex id (the node order is the
     // cloud's, spatially sorted by its builder), instead of CGAL's memory order.
     auto sortedVertices = [&](std::int32_t c) {
         std::array<std::int32_t, 4> v{};
-        for (std::size_t k = 0; k < 4; ++k) v[k] = m.cell_vertex[4 * static_cast<std::size_t>(c) + k];
+        for (std::size_t k = 0; k < 4; ++k)
+            v[k] = m.cell_vertex[4 * static_cast<std::size_t>(c) + k];
         std::sort(v.begin(), v.end());
         return v;
     };
@@ -365,10 +394,12 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
             g0 -= gk;
         }
         store3(m.tet_gradient.data(), 4 * t, g0);
-        for (std::size_t k = 0; k < 4; ++k) m.volume[static_cast<std::size_t>(m.tet[4 * t + k])] += 0.25 * vol;
+        for (std::size_t k = 0; k < 4; ++k)
+            m.volume[static_cast<std::size_t>(m.tet[4 * t + k])] += 0.25 * vol;
     }
     m.node_tet_offset.assign(n + 1, 0);
-    for (std::int32_t node : m.tet) ++m.node_tet_offset[static_cast<std::size_t>(node) + 1];
+    for (std::int32_t node : m.tet)
+        ++m.node_tet_offset[static_cast<std::size_t>(node) + 1];
     for (std::size_t i = 0; i < n; ++i) {
         if (m.node_tet_offset[i + 1] == 0) {
             throw std::invalid_argument("CNEM node " + std::to_string(i) + " belongs to no domain cell");
@@ -389,11 +420,13 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
         const std::size_t c4 = 4 * static_cast<std::size_t>(c);
         for (std::size_t o = 0; o < 4; ++o) {
             const std::int32_t nb = m.cell_neighbour[c4 + o];
-            if (nb >= 0 && m.cell_kept[static_cast<std::size_t>(nb)]) continue;
+            if (nb >= 0 && m.cell_kept[static_cast<std::size_t>(nb)])
+                continue;
             std::array<std::int32_t, 3> f{};
             std::size_t k = 0;
             for (std::size_t j = 0; j < 4; ++j) {
-                if (j != o) f[k++] = m.cell_vertex[c4 + j];
+                if (j != o)
+                    f[k++] = m.cell_vertex[c4 + j];
             }
             const Vec3 a = nodeAt(m, f[0]), b = nodeAt(m, f[1]), cc = nodeAt(m, f[2]);
             Vec3 area = 0.5 * (b - a).cross(cc - a);
@@ -401,10 +434,12 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
                 area = -area;
                 std::swap(f[1], f[2]);
             }
-            for (std::int32_t x : f) m.boundary_face.push_back(x);
+            for (std::int32_t x : f)
+                m.boundary_face.push_back(x);
             const double len = area.norm();
             m.boundary_area.push_back(len);
-            for (int d = 0; d < 3; ++d) m.boundary_normal.push_back(area[d] / len);
+            for (int d = 0; d < 3; ++d)
+                m.boundary_normal.push_back(area[d] / len);
         }
     }
 
@@ -427,9 +462,12 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
             inexact += static_cast<std::size_t>(status[k].inexact);
             for (const ScniEntry& e : buffer[k]) {
                 auto& row = rows[static_cast<std::size_t>(e.row)];
-                auto it = std::find_if(row.begin(), row.end(), [&](const auto& x) { return x.first == e.col; });
-                if (it == row.end()) row.emplace_back(e.col, e.value);
-                else it->second += e.value;
+                auto it =
+                    std::find_if(row.begin(), row.end(), [&](const auto& x) { return x.first == e.col; });
+                if (it == row.end())
+                    row.emplace_back(e.col, e.value);
+                else
+                    it->second += e.value;
             }
         }
     }
@@ -456,15 +494,18 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
         std::vector<std::pair<std::int32_t, Vec3>>().swap(rows[i]);
     }
     m.transpose_offset.assign(n + 1, 0);
-    for (std::int32_t col : m.column) ++m.transpose_offset[static_cast<std::size_t>(col) + 1];
-    for (std::size_t i = 0; i < n; ++i) m.transpose_offset[i + 1] += m.transpose_offset[i];
+    for (std::int32_t col : m.column)
+        ++m.transpose_offset[static_cast<std::size_t>(col) + 1];
+    for (std::size_t i = 0; i < n; ++i)
+        m.transpose_offset[i + 1] += m.transpose_offset[i];
     m.transpose_entry.resize(nnz);
     m.transpose_row.resize(nnz);
     {
         std::vector<std::int32_t> fill(m.transpose_offset.begin(), m.transpose_offset.end() - 1);
         for (std::size_t i = 0; i < n; ++i) {
             for (std::int32_t k = m.row_offset[i]; k < m.row_offset[i + 1]; ++k) {
-                const std::size_t slot = static_cast<std::size_t>(fill[static_cast<std::size_t>(m.column[static_cast<std::size_t>(k)])]++);
+                const std::size_t slot = static_cast<std::size_t>(
+                    fill[static_cast<std::size_t>(m.column[static_cast<std::size_t>(k)])]++);
                 m.transpose_entry[slot] = k;
                 m.transpose_row[slot] = static_cast<std::int32_t>(i);
             }
@@ -477,7 +518,8 @@ ShapeValues laplaceShapeFunctions(const CnemMesh& mesh, const Vec3& x, std::int3
     ShapeValues out;
     const std::int32_t c = locate(mesh, x, hint);
     out.cell = c;
-    if (c < 0 || !mesh.cell_kept[static_cast<std::size_t>(c)]) return out;
+    if (c < 0 || !mesh.cell_kept[static_cast<std::size_t>(c)])
+        return out;
     out.inside = true;
     const std::size_t c4 = 4 * static_cast<std::size_t>(c);
     for (std::size_t k = 0; k < 4; ++k) {
@@ -502,7 +544,8 @@ ShapeTable evaluateShapeFunctions(const CnemMesh& mesh, const std::vector<double
         const std::size_t end = std::min(count, (b + 1) * kPointBlock);
         for (std::size_t p = b * kPointBlock; p < end; ++p) {
             result[p] = laplaceShapeFunctions(mesh, load3(points.data(), p), hint);
-            if (result[p].cell >= 0) hint = result[p].cell;
+            if (result[p].cell >= 0)
+                hint = result[p].cell;
         }
     });
     ShapeTable t;
@@ -526,7 +569,8 @@ VisibilityReport checkSphereVisibility(const CnemMesh& mesh, const Vec3& centre,
                                        const std::vector<double>& samples, double tol) {
     VisibilityReport r;
     for (std::size_t c = 0; c < mesh.cellCount(); ++c) {
-        if (mesh.cell_kept[c]) continue;
+        if (mesh.cell_kept[c])
+            continue;
         ++r.dropped_cells;
         for (std::size_t k = 0; k < 4; ++k) {
             const double d = (nodeAt(mesh, mesh.cell_vertex[4 * c + k]) - centre).norm();
@@ -542,11 +586,14 @@ VisibilityReport checkSphereVisibility(const CnemMesh& mesh, const Vec3& centre,
     for (std::size_t i = 0; 3 * i + 2 < samples.size(); ++i) {
         const Vec3 x = load3(samples.data(), i);
         const std::int32_t c = locate(mesh, x, hint);
-        if (c < 0) continue;
+        if (c < 0)
+            continue;
         hint = c;
-        if (!mesh.cell_kept[static_cast<std::size_t>(c)]) continue;
+        if (!mesh.cell_kept[static_cast<std::size_t>(c)])
+            continue;
         ++r.samples;
-        if (!laplaceInCell(mesh, x, c, node, value)) ++r.violations;
+        if (!laplaceInCell(mesh, x, c, node, value))
+            ++r.violations;
     }
     return r;
 }

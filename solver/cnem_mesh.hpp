@@ -4,7 +4,8 @@
 //
 // CGAL is used only inside cnem_mesh.cpp (header-only, exact predicates); this header and everything the time
 // loop touches are plain arrays. The tessellation is kept (vertices, neighbours, kept flag of every finite
-// cell) so that shape functions can be evaluated later at arbitrary points (bridging particles of a coupling).
+// cell) so that shape functions can be evaluated later at arbitrary points (bridging particles of a
+// coupling).
 //
 // Visibility constraint (§3.2): a cell is *kept* when the domain classifier accepts its centroid; a query
 // point whose Bowyer–Watson conflict zone reached a dropped cell would couple nodes across a concavity. The
@@ -38,17 +39,17 @@ struct CnemMesh {
     std::vector<std::uint8_t> cell_kept;      ///< 1 when the cell belongs to the domain
 
     // Domain tetrahedra (the kept cells) for the linear-FE stabilisation.
-    std::vector<std::int32_t> tet;          ///< 4 per tet, node ids
-    std::vector<double> tet_volume;         ///< µm³
-    std::vector<double> tet_gradient;       ///< 12 per tet: ∇N of its 4 vertices (linear FE), 1/µm
+    std::vector<std::int32_t> tet;             ///< 4 per tet, node ids
+    std::vector<double> tet_volume;            ///< µm³
+    std::vector<double> tet_gradient;          ///< 12 per tet: ∇N of its 4 vertices (linear FE), 1/µm
     std::vector<std::int32_t> node_tet_offset; ///< N+1: node → tet incidence
     std::vector<std::int32_t> node_tet_entry;  ///< 4·tet + corner, sorted
 
     // SCNI (eq §3.4): b̃_j(x_L) = 1/V_L ∮_{Γ_L} φ_j n dΓ, row L, column j.
-    std::vector<double> volume;               ///< N, V_L (median-dual cell volume), µm³
-    std::vector<std::int32_t> row_offset;     ///< N+1
-    std::vector<std::int32_t> column;         ///< nnz, node j
-    std::vector<double> gradient;             ///< 3·nnz, b̃_j(x_L), 1/µm
+    std::vector<double> volume;                 ///< N, V_L (median-dual cell volume), µm³
+    std::vector<std::int32_t> row_offset;       ///< N+1
+    std::vector<std::int32_t> column;           ///< nnz, node j
+    std::vector<double> gradient;               ///< 3·nnz, b̃_j(x_L), 1/µm
     std::vector<std::int32_t> transpose_offset; ///< N+1: for node j, the entries k with column[k] == j
     std::vector<std::int32_t> transpose_entry;  ///< entry index k (sorted by row)
     std::vector<std::int32_t> transpose_row;    ///< the row L of that entry
@@ -79,9 +80,9 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
 struct ShapeValues {
     std::vector<std::int32_t> node;
     std::vector<double> value;
-    bool inside = false;        ///< the point lies in a kept cell
-    bool visibility_ok = true;  ///< the unconstrained conflict zone touches no dropped cell (§3.2)
-    std::int32_t cell = -1;     ///< the cell containing the point (hint for the next query)
+    bool inside = false;       ///< the point lies in a kept cell
+    bool visibility_ok = true; ///< the unconstrained conflict zone touches no dropped cell (§3.2)
+    std::int32_t cell = -1;    ///< the cell containing the point (hint for the next query)
 };
 
 /// Laplace shape functions (non-Sibsonian coordinates, Belikov/Sukumar; §3.1) at `x`, located by a walk from
@@ -108,7 +109,7 @@ struct VisibilityReport {
     std::size_t dropped_cells = 0;             ///< finite cells outside the domain
     std::size_t dropped_cells_off_surface = 0; ///< of them, cells with a vertex not on the given sphere
     std::size_t samples = 0;                   ///< points tested
-    std::size_t violations = 0;                ///< of them, unconstrained conflict zones reaching a dropped cell
+    std::size_t violations = 0; ///< of them, unconstrained conflict zones reaching a dropped cell
 };
 
 /// Checks the bowl property of §3.2: every dropped finite cell has its 4 vertices on the sphere (centre,

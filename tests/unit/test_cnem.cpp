@@ -17,12 +17,14 @@ namespace {
 constexpr double kL = 2.0; // µm, cube side of the small test clouds
 
 CnemMesh cubeMesh(int cells, unsigned seed = 3) {
-    return buildCnemMesh(jitteredBoxCloud(Vec3::Zero(), Vec3::Constant(kL), {cells, cells, cells}, 0.3, seed));
+    return buildCnemMesh(
+        jitteredBoxCloud(Vec3::Zero(), Vec3::Constant(kL), {cells, cells, cells}, 0.3, seed));
 }
 
 bool onBoxFace(const Vec3& x) {
     for (int a = 0; a < 3; ++a) {
-        if (x[a] == 0.0 || x[a] == kL) return true;
+        if (x[a] == 0.0 || x[a] == kL)
+            return true;
     }
     return false;
 }
@@ -76,7 +78,8 @@ TEST(CnemShape, BatchEvaluationMatchesSingleQueries) {
     std::mt19937_64 rng(13);
     std::uniform_real_distribution<double> uni(-0.1, kL + 0.1);
     std::vector<double> points(3 * 1000);
-    for (double& x : points) x = uni(rng);
+    for (double& x : points)
+        x = uni(rng);
     const int before = threadCount();
     setThreadCount(1);
     const ShapeTable one = evaluateShapeFunctions(mesh, points);
@@ -109,8 +112,8 @@ TEST(CnemShape, BatchEvaluationMatchesSingleQueries) {
     EXPECT_GT(outside, 0u);
 }
 
-// CNEM-2: Σ_j b̃_j(x_L) ⊗ x_j = I per cell (≤ 1e-10 absolute on b·x, dimensionless; the SCNI quadrature is exact
-// for the linear part, §3.4, measured 3e-13), Σ_j b̃_j = 0, and Σ V_L = V_Ω to 1e-12 relative.
+// CNEM-2: Σ_j b̃_j(x_L) ⊗ x_j = I per cell (≤ 1e-10 absolute on b·x, dimensionless; the SCNI quadrature is
+// exact for the linear part, §3.4, measured 3e-13), Σ_j b̃_j = 0, and Σ V_L = V_Ω to 1e-12 relative.
 TEST(CnemScni, ConsistencyAndVolumePartition) {
     const CnemMesh mesh = cubeMesh(6);
     double consistency = 0.0, constant = 0.0;
@@ -119,7 +122,8 @@ TEST(CnemScni, ConsistencyAndVolumePartition) {
         Vec3 b0 = Vec3::Zero();
         for (std::int32_t k = mesh.row_offset[L]; k < mesh.row_offset[L + 1]; ++k) {
             const Vec3 b = load3(mesh.gradient.data(), static_cast<std::size_t>(k));
-            const Vec3 x = load3(mesh.position.data(), static_cast<std::size_t>(mesh.column[static_cast<std::size_t>(k)]));
+            const Vec3 x = load3(mesh.position.data(),
+                                 static_cast<std::size_t>(mesh.column[static_cast<std::size_t>(k)]));
             sum += x * b.transpose();
             b0 += b;
         }
@@ -127,7 +131,8 @@ TEST(CnemScni, ConsistencyAndVolumePartition) {
         constant = std::max(constant, b0.norm() * kL);
     }
     double volume = 0.0;
-    for (double v : mesh.volume) volume += v;
+    for (double v : mesh.volume)
+        volume += v;
     const double rel_volume = std::abs(volume - kL * kL * kL) / (kL * kL * kL);
     std::printf("CNEM-2: max|Σ b⊗x − I| = %.2e, max|Σ b|·L = %.2e, |ΣV − V|/V = %.2e, %.1f entries/row\n",
                 consistency, constant, rel_volume, double(mesh.entries()) / double(mesh.nodes));
@@ -136,7 +141,8 @@ TEST(CnemScni, ConsistencyAndVolumePartition) {
     EXPECT_LE(rel_volume, 1e-12);
     // Boundary faces tile the cube's surface.
     double area = 0.0;
-    for (double a : mesh.boundary_area) area += a;
+    for (double a : mesh.boundary_area)
+        area += a;
     EXPECT_NEAR(area, 6 * kL * kL, 1e-12 * 6 * kL * kL);
 }
 
@@ -163,15 +169,18 @@ TEST(CnemKernel, RigidModesAndEnergy) {
     }
     computeCnemForces(m);
     double fmax = 0.0;
-    for (double f : m.force) fmax = std::max(fmax, std::abs(f));
+    for (double f : m.force)
+        fmax = std::max(fmax, std::abs(f));
     // Scale: E·h²·|ω| ≈ 72 × 0.25 × 4e-3 ≈ 0.07 mN; rounding of the sums leaves ~1e-16 of that.
     EXPECT_LE(fmax, 1e-14);
     std::mt19937_64 rng(5);
     std::normal_distribution<double> g(0.0, 1e-3);
-    for (double& u : m.displacement) u = g(rng);
+    for (double& u : m.displacement)
+        u = g(rng);
     const double energy = computeCnemForces(m, true);
     double work = 0.0;
-    for (std::size_t a = 0; a < m.force.size(); ++a) work += m.displacement[a] * m.force[a];
+    for (std::size_t a = 0; a < m.force.size(); ++a)
+        work += m.displacement[a] * m.force[a];
     EXPECT_GT(energy, 0.0);
     EXPECT_NEAR(energy, -0.5 * work, 1e-12 * energy);
 }
@@ -182,11 +191,13 @@ TEST(CnemKernel, RigidModesAndEnergy) {
 TEST(CnemKernel, PartitionWeights) {
     CnemModel m = cubeModel(4);
     double mass = 0.0;
-    for (double x : m.mass) mass += x;
+    for (double x : m.mass)
+        mass += x;
     EXPECT_NEAR(mass, m.material.density * kL * kL * kL, 1e-12 * mass);
     std::mt19937_64 rng(6);
     std::normal_distribution<double> g(0.0, 1e-3);
-    for (double& u : m.displacement) u = g(rng);
+    for (double& u : m.displacement)
+        u = g(rng);
     std::vector<double> plain(m.force.size()), weighted(m.force.size());
     cnemInternalForces(m.tables(), m.law, m.displacement.data(), plain.data());
     std::vector<double> cw(m.nodes(), 1.0), tw(m.mesh.tetCount(), 1.0);
@@ -196,18 +207,23 @@ TEST(CnemKernel, PartitionWeights) {
     cnemInternalForces(v, m.law, m.displacement.data(), weighted.data());
     EXPECT_EQ(plain, weighted);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
-    for (double& w : cw) w = uni(rng);
-    for (double& w : tw) w = uni(rng);
+    for (double& w : cw)
+        w = uni(rng);
+    for (double& w : tw)
+        w = uni(rng);
     const double energy = cnemInternalForces(v, m.law, m.displacement.data(), weighted.data(), true);
     double work = 0.0;
-    for (std::size_t a = 0; a < weighted.size(); ++a) work += m.displacement[a] * weighted[a];
+    for (std::size_t a = 0; a < weighted.size(); ++a)
+        work += m.displacement[a] * weighted[a];
     EXPECT_NEAR(energy, -0.5 * work, 1e-12 * energy);
-    for (std::size_t i = 0; i < m.nodes(); ++i) store3(m.displacement.data(), i, Vec3(0.1, 0.2, -0.3));
+    for (std::size_t i = 0; i < m.nodes(); ++i)
+        store3(m.displacement.data(), i, Vec3(0.1, 0.2, -0.3));
     cnemInternalForces(v, m.law, m.displacement.data(), weighted.data());
     double fmax = 0.0;
-    for (double f : weighted) fmax = std::max(fmax, std::abs(f));
-    // Rounding only: |Σ_j b̃_j| ~ 5e-14/L (CNEM-2) × |u| 0.37 µm × E h² ≈ 2e-13 mN at most, against 0.02 mN for a
-    // strain of 1e-3 on these cells.
+    for (double f : weighted)
+        fmax = std::max(fmax, std::abs(f));
+    // Rounding only: |Σ_j b̃_j| ~ 5e-14/L (CNEM-2) × |u| 0.37 µm × E h² ≈ 2e-13 mN at most, against 0.02 mN
+    // for a strain of 1e-3 on these cells.
     EXPECT_LE(fmax, 1e-12);
 }
 
@@ -238,17 +254,19 @@ TEST(CnemScni, AffinePatchTestDirichlet) {
     }
 }
 
-// Traction patch test: a uniform traction σ on the face x = L, rollers on x = 0, y = 0, z = 0 give the uniform
-// uniaxial stress σ exactly (consistent linear-FE face loads match the SCNI boundary facets, so the uniform
-// stress field is in exact discrete equilibrium): ε_xx = σ/E, ε_yy = ε_zz = −ν σ/E at every node.
+// Traction patch test: a uniform traction σ on the face x = L, rollers on x = 0, y = 0, z = 0 give the
+// uniform uniaxial stress σ exactly (consistent linear-FE face loads match the SCNI boundary facets, so the
+// uniform stress field is in exact discrete equilibrium): ε_xx = σ/E, ε_yy = ε_zz = −ν σ/E at every node.
 TEST(CnemScni, UniaxialTractionPatchTest) {
     CnemModel m = cubeModel(5);
     const double sigma = 0.5; // GPa
-    addCnemTraction(m, [](const Vec3& c, const Vec3&) { return std::abs(c.x() - kL) < 1e-12; }, Vec3(sigma, 0, 0));
+    addCnemTraction(
+        m, [](const Vec3& c, const Vec3&) { return std::abs(c.x() - kL) < 1e-12; }, Vec3(sigma, 0, 0));
     for (int a = 0; a < 3; ++a) {
         std::vector<std::int32_t> plane;
         for (std::size_t i = 0; i < m.nodes(); ++i) {
-            if (m.mesh.position[3 * i + static_cast<std::size_t>(a)] == 0.0) plane.push_back(static_cast<std::int32_t>(i));
+            if (m.mesh.position[3 * i + static_cast<std::size_t>(a)] == 0.0)
+                plane.push_back(static_cast<std::int32_t>(i));
         }
         std::array<bool, 3> axes{false, false, false};
         axes[static_cast<std::size_t>(a)] = true;
@@ -275,9 +293,11 @@ TEST(CnemKernel, BitIdenticalForOneAndTwoThreads) {
         CnemModel m = cubeModel(7, 0.05, 9); // 512 nodes, > kReduceChunk tets
         std::mt19937_64 rng(2);
         std::normal_distribution<double> g(0.0, 1e-3);
-        for (double& v : m.velocity) v = g(rng);
+        for (double& v : m.velocity)
+            v = g(rng);
         computeCnemForces(m);
-        for (int s = 0; s < 50; ++s) stepCnem(m, 1e-5);
+        for (int s = 0; s < 50; ++s)
+            stepCnem(m, 1e-5);
         return std::make_pair(m.mesh.gradient, m.displacement);
     };
     const auto one = run(1);
