@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "kernels/parallel.hpp"
+
 namespace vitrum {
 
 CnemView CnemModel::tables() {
@@ -84,6 +86,19 @@ void stepCnem(CnemModel& model, double dt) {
 
 double cnemKineticEnergy(CnemModel& model) {
     return cnemKineticEnergy(model.state());
+}
+
+void cnemNodalStrainStress(CnemModel& model, std::vector<double>& strain, std::vector<double>& stress) {
+    const std::size_t n = model.nodes();
+    strain.resize(6 * n);
+    stress.resize(6 * n);
+    const CnemView v = model.tables();
+    const IsotropicElasticity law = model.law;
+    const double* u = model.displacement.data();
+    parallelFor("cnem.nodal_stress", n, [&](std::size_t L) {
+        cnemCellStrain(v, u, L, strain.data() + 6 * L);
+        law.stress(strain.data() + 6 * L, stress.data() + 6 * L);
+    });
 }
 
 void fixCnemNodes(CnemModel& model, const std::vector<std::int32_t>& nodes, std::array<bool, 3> axes,

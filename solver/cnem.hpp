@@ -60,6 +60,10 @@ void stepCnem(CnemModel& model, double dt);
 /// Kinetic energy (nJ).
 double cnemKineticEnergy(CnemModel& model);
 
+/// Smoothed nodal strain ε̃_L and stress σ(ε̃_L) of the current displacement (6 per node: xx yy zz yz xz xy,
+/// tensor components; GPa for the stress), the fields a writer shows on the CNEM nodes.
+void cnemNodalStrainStress(CnemModel& model, std::vector<double>& strain, std::vector<double>& stress);
+
 /// Fixes the selected DOFs (axis mask x, y, z) of `nodes`, moving at `velocity` (km/s; zero: clamped).
 void fixCnemNodes(CnemModel& model, const std::vector<std::int32_t>& nodes, std::array<bool, 3> axes,
                   const Vec3& velocity = Vec3::Zero());

@@ -283,6 +283,16 @@ TEST(CnemScni, UniaxialTractionPatchTest) {
     const double scale = sigma / E * kL;
     std::printf("traction patch test: max rel. error %.2e\n", err / scale);
     EXPECT_LE(err / scale, 1e-9); // same bound as CNEM-3
+    // The nodal stress field is the uniform σ_xx = σ (same bound, relative to σ).
+    std::vector<double> strain, stress;
+    cnemNodalStrainStress(m, strain, stress);
+    double stress_err = 0.0;
+    for (std::size_t i = 0; i < m.nodes(); ++i) {
+        for (std::size_t a = 0; a < 6; ++a) {
+            stress_err = std::max(stress_err, std::abs(stress[6 * i + a] - (a == 0 ? sigma : 0.0)) / sigma);
+        }
+    }
+    EXPECT_LE(stress_err, 1e-9);
 }
 
 // Determinism: the mesh (SCNI table) and 50 explicit steps are bit-identical with 1 and 2 threads.
