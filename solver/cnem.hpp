@@ -5,7 +5,18 @@
 //
 // API for a coupling: nodal fields are SoA arrays (displacement, velocity, force, external_force: 3N,
 // interleaved x y z per node; mass: N); computeCnemForces(model) fills force = f_int(u) + external_force;
-// addNodalForce / external_force take any external load; stepCnem advances one central-difference step.
+// external_force takes any external load (tractions, coupling forces); stepCnem advances one central-difference
+// step; cnemInternalForces(model.tables() with weights, ...) is the bare kernel; evaluateShapeFunctions gives
+// N_J(x_i) at particle positions.
+//
+// Use:
+//   const NodeCloud cloud = indentationDomainCloud({});                  // or any cloud + classifier
+//   CnemModel m = makeCnemModel(buildCnemMesh(cloud.position, cloud.inside), CnemMaterial{});
+//   fixCnemNodes(m, bottom_nodes, {true, true, true});                    // Dirichlet (clamped)
+//   addCnemTraction(m, [](const Vec3& c, const Vec3& n) { return n.z() > 0.9; }, Vec3(0, 0, -0.1));
+//   const double dt = 0.5 * cnemHighestFrequency(m).criticalStep();
+//   computeCnemForces(m);
+//   for (...) stepCnem(m, dt);
 #pragma once
 
 #include <array>
