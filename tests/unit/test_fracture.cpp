@@ -262,6 +262,30 @@ TEST(ContactLaw, BondedPairsGetNothingAndTouchingPairsConserveMomentum) {
     EXPECT_LE((f0 - f0.dot(n) * n).norm(), 0.3 * std::abs(f0.dot(n)) * (1 + 1e-12));
 }
 
+TEST(VirialStress, ContactForcesEnterLikeBondForcesAndCompressionIsNegative) {
+    // Two unbonded spheres pressed together by 1 %: eq (10) with the contact force, σ_xx = l F_x/(2Ω) < 0.
+    Model m;
+    m.particles = Particles::spheres({Vec3(0, 0, 0), Vec3(1, 0, 0)}, {0.5, 0.5}, 1.0);
+    m.incidence = Incidence::build(2, m.bonds);
+    m.particles.position[3] = 0.99;
+    m.contacts.skin = 0.1;
+    m.contacts.build(m.particles, m.bonds, m.incidence);
+    const LinearContact law = LinearContact::make(50.0, 1.0, 25.0, 0.3);
+    computeContactLoads(law, m.contacts.view(), m.particles.view(), m.particles.initial_position.data(),
+                        m.bonds.broken.data(), 1e-3);
+    ASSERT_EQ(m.contacts.active[0], 1);
+    std::vector<double> s(12, 0.0);
+    const ParticleVolume volume{0.5};
+    computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), m.contacts.incidenceView(),
+                        m.contacts.view(), {}, volume, s.data());
+    const double force = -50.0 * 0.01; // on particle 0, along −x
+    const double expected = 0.99 * force / (2.0 * volume.of(0.5));
+    EXPECT_NEAR(s[0], expected, 1e-15);
+    EXPECT_NEAR(s[6], expected, 1e-15);
+    EXPECT_LT(s[0], 0.0);
+    EXPECT_EQ(s[1], 0.0);
+}
+
 TEST(ContactLaw, InitialOverlapIsTheStressFreeState) {
     // A bonded pair created overlapping by 1 % breaks: no contact force until it is pushed closer.
     Model m = pair(0.0);
