@@ -207,6 +207,7 @@ int runScene(const RunOptions& options) {
         if (scene.hasEffect("fracture")) {
             log << "\n  fracture   hydrostatic release at " << scene.fracture.hydrostatic_strength * 1e3
                 << " MPa (eq 10 stress, Omega_i = sphere / " << particleVolume(scene).packing_fraction
+                << (scene.fracture.averaging == "neighbours" ? ", averaged with the bonded neighbours" : "")
                 << "), checked every " << scene.fracture.check_every << " step(s)";
         }
         if (scene.hasEffect("contact")) {

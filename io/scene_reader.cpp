@@ -1085,13 +1085,14 @@ void SceneParser::readFracture(const TableReader& top, Scene& scene) const {
     if (!scene.hasEffect("fracture")) {
         return;
     }
-    table.allowOnly({"hydrostatic_strength", "check_every", "volume", "packing_fraction"});
+    table.allowOnly({"hydrostatic_strength", "check_every", "volume", "packing_fraction", "averaging"});
     FractureParams& f = scene.fracture;
     if (auto v = table.number("hydrostatic_strength", kPositive, "in " + scene.units.stress)) {
         f.hydrostatic_strength = toInternal(*v, stress_);
     }
     f.check_every = table.integer("check_every", 1).value_or(f.check_every);
     f.volume = table.choice("volume", {"packing", "sphere"}).value_or(f.volume);
+    f.averaging = table.choice("averaging", {"none", "neighbours"}).value_or(f.averaging);
     if (auto v = table.number("packing_fraction", Range{0.0, 1.0, true, false})) {
         if (f.volume == "sphere") {
             fail(table.find("packing_fraction")->source(),
@@ -1378,7 +1379,8 @@ std::string resolvedSceneToml(const Scene& scene) {
     if (scene.hasEffect("fracture")) {
         const FractureParams& f = scene.fracture;
         out << "[fracture]\nhydrostatic_strength = " << fileFloat(f.hydrostatic_strength, stress) << " # "
-            << u.stress << "\ncheck_every = " << f.check_every << "\nvolume = " << tomlString(f.volume);
+            << u.stress << "\ncheck_every = " << f.check_every << "\nvolume = " << tomlString(f.volume)
+            << "\naveraging = " << tomlString(f.averaging);
         if (f.volume == "packing") {
             out << "\npacking_fraction = " << tomlFloat(f.packing_fraction);
         }

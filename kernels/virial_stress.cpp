@@ -67,4 +67,33 @@ void computeVirialStress(const IncidenceView& inc, const BondView& b, const Part
     }
 }
 
+void averageOverBondedNeighbours(const IncidenceView& inc, const BondView& b, const ParticleView& p, const double* stress,
+                                 double* averaged) {
+    // Ω_j ∝ R_j³ (the packing fraction and 4π/3 cancel in the weights).
+    parallelFor("fracture.average", inc.n, [&](std::size_t q) {
+        double w = p.radius[q] * p.radius[q] * p.radius[q];
+        double total = w;
+        double acc[6];
+        for (int m = 0; m < 6; ++m) {
+            acc[m] = w * stress[6 * q + m];
+        }
+        for (std::int32_t e = inc.offset[q]; e < inc.offset[q + 1]; ++e) {
+            const std::int32_t code = inc.entry[e];
+            const std::size_t k = static_cast<std::size_t>(code >> 1);
+            if (b.broken[k]) {
+                continue;
+            }
+            const std::size_t other = static_cast<std::size_t>((code & 1) ? b.i[k] : b.j[k]);
+            w = p.radius[other] * p.radius[other] * p.radius[other];
+            total += w;
+            for (int m = 0; m < 6; ++m) {
+                acc[m] += w * stress[6 * other + m];
+            }
+        }
+        for (int m = 0; m < 6; ++m) {
+            averaged[6 * q + m] = acc[m] / total;
+        }
+    });
+}
+
 } // namespace vitrum

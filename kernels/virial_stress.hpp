@@ -64,6 +64,12 @@ void computeVirialStress(const IncidenceView& bond_incidence, const BondView& bo
                          const IncidenceView& contact_incidence, const ContactPairView& contacts,
                          const PointForceView& external, const ParticleVolume& volume, double* stress);
 
+/// Optional smoothing (reference note §6.3, GranOO's NeighbourLevel = 1): the Ω-weighted mean of eq (10) over the
+/// particle and its bonded (unbroken) neighbours, σ̃_i = (Ω_i σ_i + Σ_j Ω_j σ_j)/(Ω_i + Σ_j Ω_j), i.e. eq (8) over
+/// that region. Reads `stress`, writes `averaged` (distinct arrays); CSR order, thread-count independent.
+void averageOverBondedNeighbours(const IncidenceView& bond_incidence, const BondView& bonds, const ParticleView& particles,
+                                 const double* stress, double* averaged);
+
 /// tr(σ)/3 of one particle's six components.
 inline double hydrostaticStress(const double* s6) noexcept { return (s6[0] + s6[1] + s6[2]) / 3.0; }
 

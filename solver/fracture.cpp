@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 #include "kernels/parallel.hpp"
@@ -84,18 +85,28 @@ void addContactPhases(Step& step, const Scene& scene, Model& model) {
 }
 
 namespace {
-void stressOf(Model& m, const ParticleVolume& volume) {
+/// Eq (10) into particles.stress; with averaging, eq (10) into `scratch` (6n) and its neighbour mean into the stress.
+void stressOf(Model& m, const ParticleVolume& volume, std::vector<double>* scratch) {
     const ContactPairView pairs = m.contacts.size() > 0 ? m.contacts.view() : ContactPairView{};
     const IncidenceView pair_incidence = m.contacts.size() > 0 ? m.contacts.incidenceView() : IncidenceView{};
+    double* raw = scratch ? scratch->data() : m.particles.stress.data();
     computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), pair_incidence, pairs,
-                        m.point_forces.view(), volume, m.particles.stress.data());
+                        m.point_forces.view(), volume, raw);
+    if (scratch) {
+        averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), raw,
+                                    m.particles.stress.data());
+    }
 }
 } // namespace
 
 void computeStress(const Scene& scene, Model& model) {
     model.particles.enableFracture();
     toolPointForces(model, model.point_forces);
-    stressOf(model, particleVolume(scene));
+    std::vector<double> scratch;
+    if (scene.fracture.averaging == "neighbours") {
+        scratch.assign(model.particles.stress.size(), 0.0);
+    }
+    stressOf(model, particleVolume(scene), scratch.empty() ? nullptr : &scratch);
 }
 
 void toolPointForces(const Model& m, PointForces& out) {
@@ -123,15 +134,20 @@ void addFracturePhases(Step& step, const Scene& scene, Model& model) {
     const HydrostaticRelease law{scene.fracture.hydrostatic_strength};
     const long every = scene.fracture.check_every;
     const ParticleVolume volume = particleVolume(scene);
+    // With averaging, eq (10) goes to a scratch array first (allocated only then).
+    std::shared_ptr<std::vector<double>> scratch;
+    if (scene.fracture.averaging == "neighbours") {
+        scratch = std::make_shared<std::vector<double>>(model.particles.stress.size(), 0.0);
+    }
     // The step index is the time over Δt (the driver sets time = n Δt), so a restart checks on the same steps.
-    step.add("fracture.release", false, [law, every, volume](StepContext& c) {
+    step.add("fracture.release", false, [law, every, volume, scratch](StepContext& c) {
         const long long n = std::llround(c.time / c.dt);
         if (n % every != 0) {
             return;
         }
         Model& m = c.model;
         toolPointForces(m, m.point_forces); // effect indenter: the tool's contacts with their branch vectors
-        stressOf(m, volume);
+        stressOf(m, volume, scratch.get());
         const BondBreakView bonds{m.bonds.size(), m.bonds.i.data(), m.bonds.j.data(), m.bonds.broken.data()};
         applyHydrostaticRelease(law, m.particles.damageView(), m.incidence.view(), bonds, n);
     });

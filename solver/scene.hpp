@@ -151,6 +151,7 @@ struct FractureParams {
     long check_every = 1;                ///< steps between evaluations of the criterion
     std::string volume = "packing";      ///< Ω_i: "packing" (sphere / packing_fraction) | "sphere" (bare sphere)
     double packing_fraction = 0.0;       ///< φ of Ω_i = (4/3)πR³/φ; 0 = the sample's (random: its target, fcc, sc)
+    std::string averaging = "none";     ///< "none" (eq 10 per particle) | "neighbours" (Ω-weighted mean with bonded neighbours)
 };
 
 /// Effect `contact` (on with `fracture`; kernels/contact.hpp): unbonded particle–particle contacts.

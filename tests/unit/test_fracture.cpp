@@ -108,6 +108,41 @@ TEST(VirialStress, ToolContactsEnterWithTheirContactPoints) {
     EXPECT_EQ(m.particles.stress[6 + 2], 0.0);
 }
 
+Model lattice_for_average() {
+    Scene s;
+    s.sample.lattice = "fcc";
+    s.sample.size = Vec3(3, 3, 3);
+    s.sample.particles = 300;
+    s.source_path = "<test>";
+    return buildModel(s, 1.0);
+}
+
+TEST(VirialStress, NeighbourAveragingKeepsAUniformFieldAndDilutesASpike) {
+    Model m = lattice_for_average();
+    const std::size_t n = m.particles.size();
+    std::vector<double> uniform(6 * n), out(6 * n);
+    for (std::size_t q = 0; q < n; ++q) {
+        for (int c = 0; c < 6; ++c) uniform[6 * q + c] = 0.1 * (c + 1);
+    }
+    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), uniform.data(), out.data());
+    for (std::size_t k = 0; k < out.size(); ++k) EXPECT_NEAR(out[k], uniform[k], 1e-15);
+    // A spike on one particle of equal-sized neighbours: it keeps 1/(1 + z) of it, each neighbour 1/(1 + z_j).
+    std::vector<double> spike(6 * n, 0.0);
+    const std::size_t p = 40;
+    spike[6 * p] = 1.0;
+    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), spike.data(), out.data());
+    EXPECT_NEAR(out[6 * p], 1.0 / (1 + m.incidence.degree(p)), 1e-15);
+    const auto first = static_cast<std::size_t>(m.incidence.entry[m.incidence.offset[p]] >> 1);
+    const std::size_t neighbour = static_cast<std::size_t>(m.bonds.i[first]) == p ? static_cast<std::size_t>(m.bonds.j[first])
+                                                                                 : static_cast<std::size_t>(m.bonds.i[first]);
+    EXPECT_NEAR(out[6 * neighbour], 1.0 / (1 + m.incidence.degree(neighbour)), 1e-15);
+    // A broken bond no longer links the two.
+    m.bonds.broken[first] = 1;
+    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), spike.data(), out.data());
+    EXPECT_EQ(out[6 * neighbour], 0.0);
+    EXPECT_NEAR(out[6 * p], 1.0 / m.incidence.degree(p), 1e-15);
+}
+
 Model lattice(long particles, const std::string& shape = "box") {
     Scene s;
     s.sample.lattice = "fcc";
@@ -307,13 +342,14 @@ TEST(ContactLaw, InitialOverlapIsTheStressFreeState) {
 
 TEST(FractureScene, KeysUnitsDefaultsAndRoundTrip) {
     const Scene s = parseScene("[units]\nstress = \"MPa\"\nforce = \"N\"\nlength = \"um\"\n[effects]\nlist = [\"fracture\"]\n"
-                               "[sample]\nlattice = \"sc\"\n[fracture]\nhydrostatic_strength = 80\ncheck_every = 5\n"
+                               "[sample]\nlattice = \"sc\"\n[fracture]\nhydrostatic_strength = 80\ncheck_every = 5\naveraging = \"neighbours\"\n"
                                "[contact]\nnormal_stiffness = 0.002\nrestitution = 0.3\nfriction = 0.2\n[time]\nduration = 1\n",
                                "f.toml");
     EXPECT_TRUE(s.hasEffect("contact")); // fracture switches contact on
     EXPECT_DOUBLE_EQ(s.fracture.hydrostatic_strength, 0.08);
     EXPECT_EQ(s.fracture.check_every, 5);
     EXPECT_EQ(s.fracture.volume, "packing");
+    EXPECT_EQ(s.fracture.averaging, "neighbours");
     EXPECT_DOUBLE_EQ(s.fracture.packing_fraction, std::numbers::pi / 6.0); // sc
     EXPECT_DOUBLE_EQ(s.contact.normal_stiffness, 2.0);                      // 0.002 N/µm = 2 mN/µm
     EXPECT_DOUBLE_EQ(s.contact.restitution, 0.3);
