@@ -18,7 +18,7 @@ std::string formatDuration(double seconds) {
     return text;
 }
 
-std::string formatProgress(long step, long total, double elapsed_s, const std::string& probes) {
+std::string formatProgress(long step, long total, double elapsed_s, const std::string& probes, bool bound) {
     const double percent = total > 0 ? 100.0 * static_cast<double>(step) / static_cast<double>(total) : 100.0;
     char head[96];
     std::snprintf(head, sizeof head, "[%5.1f%%] step %ld/%ld  ", percent, step, total);
@@ -26,7 +26,7 @@ std::string formatProgress(long step, long total, double elapsed_s, const std::s
     if (step > 0 && elapsed_s > 0) {
         const double rate = static_cast<double>(step) / elapsed_s;
         char tail[64];
-        std::snprintf(tail, sizeof tail, "%.0f steps/s  ETA ", rate);
+        std::snprintf(tail, sizeof tail, bound ? "%.0f steps/s  ETA <= " : "%.0f steps/s  ETA ", rate);
         line += tail;
         line += formatDuration(static_cast<double>(total - step) / rate);
     } else {
@@ -56,14 +56,14 @@ void ProgressReporter::update(long step, const std::string& probes) {
     if (now - last_report_s_ < (interactive_ ? redraw_interval_s : report_interval_s_))
         return;
     last_report_s_ = now;
-    emit(formatProgress(step, total_steps_, now - start_s_, probes));
+    emit(formatProgress(step, total_steps_, now - start_s_, probes, eta_is_bound_));
 }
 
 void ProgressReporter::finish() {
     if (finished_)
         return;
     finished_ = true;
-    emit(formatProgress(last_step_, total_steps_, now_s_() - start_s_, last_probes_));
+    emit(formatProgress(last_step_, total_steps_, now_s_() - start_s_, last_probes_, eta_is_bound_));
     if (interactive_)
         out_ << '\n';
     out_.flush();

@@ -10,7 +10,8 @@ namespace vitrum {
 /// `[ 42.0%] step 4200/10000  1234 steps/s  ETA 0:04:42  | <probes>`. The rate is the mean over the run so
 /// far (step / elapsed_s); before any step or time has passed, rate and ETA print as "-". The "  | probes"
 /// tail is left out when probes is empty.
-std::string formatProgress(long step, long total, double elapsed_s, const std::string& probes);
+/// `bound`: the total is an upper bound (a run that ends on a condition), printed "ETA <= ...".
+std::string formatProgress(long step, long total, double elapsed_s, const std::string& probes, bool bound = false);
 
 /// h:mm:ss, seconds rounded to the nearest and negatives clamped to 0.
 std::string formatDuration(double seconds);
@@ -26,6 +27,8 @@ public:
     ProgressReporter(std::ostream& out, bool interactive, long total_steps, double report_interval_s = 10.0,
                      Clock now_s = {});
     void update(long step, const std::string& probes);
+    /// The total is an upper bound (the run ends on a condition, e.g. the last indentation stage).
+    void setTotalIsBound(bool bound) { eta_is_bound_ = bound; }
     /// Always writes the final line (ending the redrawn one with a newline). Further calls do nothing.
     void finish();
 
@@ -43,6 +46,7 @@ private:
     std::string last_probes_;
     std::size_t drawn_length_ = 0;
     bool finished_ = false;
+    bool eta_is_bound_ = false;
 };
 
 } // namespace vitrum

@@ -49,15 +49,26 @@ vtkNew<vtkPoints> toVtkPoints(const std::string& path, std::size_t n, const doub
 }
 
 void writeGrid(const std::string& path, vtkUnstructuredGrid* grid) {
+    // Written beside the target and renamed over it: a reader (or a run killed mid-write) never leaves a
+    // half-written map under the final name.
+    const std::string temporary = path + ".tmp";
     vtkNew<vtkXMLUnstructuredGridWriter> writer;
-    writer->SetFileName(path.c_str());
+    writer->SetFileName(temporary.c_str());
     writer->SetInputData(grid);
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff(); // raw binary rather than base64: a quarter smaller, ParaView reads both
     writer->SetCompressorTypeToZLib();
     writer->SetHeaderTypeToUInt64(); // 32-bit block headers overflow beyond 4 GiB of raw array data
-    if (writer->Write() == 1 && writer->GetErrorCode() == vtkErrorCode::NoError)
-        return;
+    if (writer->Write() == 1 && writer->GetErrorCode() == vtkErrorCode::NoError) {
+        std::error_code error;
+        std::filesystem::rename(temporary, path, error);
+        if (!error)
+            return;
+        std::filesystem::remove(temporary, error);
+        fail(path, "cannot rename the written temporary file onto it");
+    }
+    std::error_code ignored;
+    std::filesystem::remove(temporary, ignored);
     // Codes below FirstVTKErrorCode are errno values. The enum is header-only; its string table lives in
     // CommonMisc, which vitrum does not link, so the few codes a writer sets are named here.
     const unsigned long code = writer->GetErrorCode();
