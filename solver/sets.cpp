@@ -71,10 +71,12 @@ std::vector<std::int32_t> selectParticles(const std::vector<SelectorClause>& cla
     double z_top = -1e300;
     double z_bottom = 1e300;
     double r_min = 1e300;
+    double r_dome = 0.0; // radius of the sphere about the origin that bounds the sample (sphere, hemisphere)
     for (std::size_t i = 0; i < n; ++i) {
         z_top = std::max(z_top, p.position[3 * i + 2]);
         z_bottom = std::min(z_bottom, p.position[3 * i + 2]);
         r_min = std::min(r_min, p.radius[i]);
+        r_dome = std::max(r_dome, load3(p.position.data(), i).norm() + p.radius[i]);
     }
     auto matches = [&](const SelectorClause& c, std::size_t i) {
         const Vec3 x = load3(p.position.data(), i);
@@ -86,7 +88,9 @@ std::vector<std::int32_t> selectParticles(const std::vector<SelectorClause>& cla
         case SelectorClause::Kind::Surface:
             return surface;
         case SelectorClause::Kind::Dome:
-            return surface && !top;
+            // The curved boundary only: within 1.5 R of the bounding sphere about the origin. (Surface particles
+            // near the flat face of a hemisphere are free: fixing them would stiffen the indented surface.)
+            return surface && !top && r_dome - x.norm() < 1.5 * p.radius[i];
         case SelectorClause::Kind::TopLayer:
             return top;
         case SelectorClause::Kind::BottomLayer:

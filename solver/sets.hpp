@@ -4,8 +4,9 @@
 //   coord    := x | y | z | r (distance from the z axis) | d (distance from the origin)
 //   op       := < | <= | > | >=
 // "surface": centre within 1.5 radii of the shape's boundary; "top layer" / "bottom layer": centres within
-// half a radius of the highest / lowest centre in z; "dome": surface particles not in the top layer (for a
-// hemisphere, its curved face, which the paper clamps).
+// half a radius of the highest / lowest centre in z; "dome": surface particles within 1.5 radii of the
+// sphere about the origin that bounds the sample (for a hemisphere, its curved face, which the paper clamps;
+// the particles under the flat face are not in it).
 #pragma once
 
 #include <cstdint>

@@ -67,3 +67,35 @@ TEST(StepComposition, EachEffectAddsItsPhases) {
 
 } // namespace
 } // namespace vitrum
+
+#include "solver/sets.hpp"
+
+namespace vitrum {
+namespace {
+
+TEST(Sets, DomeOfAHemisphereIsItsCurvedFaceOnly) {
+    // The paper clamps the curved face. In a random packing the particles under the flat face sit at
+    // scattered depths, and a "surface minus top layer" rule would clamp those just below the top band —
+    // holding the indented surface from below. Under the centre of the flat face (r < 0.6 R_s, z > −0.5 R_s:
+    // at least 0.3 R_s from the curved face) no particle may be clamped.
+    Scene s;
+    s.sample.lattice = "random";
+    s.sample.shape = "hemisphere";
+    s.sample.radius = 4.0;
+    s.sample.particles = 2000;
+    s.sets = {{"dome", "dome"}, {"surface", "surface"}};
+    const Model m = buildModel(s, 1.0);
+    const NamedSet& dome = m.sets[m.setIndex("dome")];
+    ASSERT_GT(dome.members.size(), 100u);
+    auto underFlatFace = [&](std::int32_t i) {
+        const Vec3 x = load3(m.particles.position.data(), static_cast<std::size_t>(i));
+        return std::hypot(x.x(), x.y()) < 0.6 * 4.0 && x.z() > -0.5 * 4.0;
+    };
+    long surface_under_face = 0;
+    for (std::int32_t i : m.sets[m.setIndex("surface")].members) surface_under_face += underFlatFace(i);
+    EXPECT_GT(surface_under_face, 20); // the flat face's own surface particles exist there ...
+    for (std::int32_t i : dome.members) EXPECT_FALSE(underFlatFace(i)) << "particle " << i; // ... and are free
+}
+
+} // namespace
+} // namespace vitrum
