@@ -1,0 +1,150 @@
+// DEM–CNEM Arlequin coupling (reference note cnem-coupling.md §4; issue 7, second half): a bridging zone in
+// which both models carry the load with partition weights α_d + α_c = 1, tied by a velocity constraint
+// solved with Lagrange multipliers on the CNEM nodes (coarse mediator, L2 product by particle quadrature).
+//
+// Weighting (§4.3): DEM particle mass and inertia × α_d(x_i); every bond's loads (and energy) × α_d(x_mid);
+// CNEM lumped mass ρ ᾱ_c,L V_L and the SCNI cell energy × ᾱ_c,L, the cell average of α_c over the
+// median-dual cell (24-point rule: the centroids of the barycentric sub-tetrahedra, exact for a linear α_c on
+// each of them); the stabilisation tets × their mean α_c. External loads are the caller's (weight them).
+//
+// Constraint (§4.4): G_d v + G_c V = 0 on the multiplier nodes 𝒦 (nodes with Σ_i w_i N_K(x_i) above a
+// tolerance); A = G_d M̃_d⁻¹ G_dᵀ + G_c M̃_c⁻¹ G_cᵀ is assembled and Cholesky-factorised once (Eigen
+// SimplicialLLT, one factor per Cartesian component when Dirichlet DOFs differ between components), and each
+// projection solves A λ = −g. Kinematic particles and Dirichlet DOFs have inverse mass 0: they are not moved
+// by the constraint. Small displacements in the zone are assumed (reference-configuration N_K(x_i)).
+//
+// Time step (RATTLE form of the project's kick–drift–kick): half kick of both models → projection →
+// drift → forces → half kick → projection. Constraining the half-step velocity keeps the displacement
+// constraint exact (no drift); the second projection makes the full-step velocities admissible (energy).
+// The DEM and CNEM force passes are independent and may later run as concurrent tasks.
+//
+// Use (a later `coupling` effect follows the same phases):
+//   Bridge bridge = buildBridge(particles, bonds, cnem, zone);       // once, after both models are built
+//   computeCoupledForces(particles, bonds, incidence, cnem, bridge);
+//   for (...) stepCoupled(particles, bonds, incidence, cnem, bridge, dt);
+//   CoupledEnergy e = coupledEnergy(particles, bonds, cnem, bridge);  // the weighted Hamiltonian
+//   assertZoneElastic(bridge, particles, bonds);                      // no densification/fracture in Ω_b
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "kernels/coupling_kernels.hpp"
+#include "solver/bonds.hpp"
+#include "solver/cnem.hpp"
+#include "solver/particles.hpp"
+
+namespace vitrum {
+
+struct BridgeOptions {
+    /// A CNEM node carries a multiplier when Σ_i w_i N_K(x_i) > tolerance × the largest such sum.
+    double multiplier_tolerance = 1e-6;
+};
+
+struct BridgeFactor; // the Cholesky factors (Eigen, in coupling.cpp)
+
+/// Everything the coupled step needs beside the two models: weights, weighted masses, the bridging
+/// particles' shape-function rows, the multiplier numbering and the factorised constraint matrix.
+struct Bridge {
+    BridgeZone zone;
+    // DEM side.
+    std::vector<double> particle_weight;       ///< n: α_d(x_i)
+    std::vector<double> bond_weight;           ///< bonds: α_d(x_mid)
+    std::vector<double> mass;                  ///< n: α_d m_i
+    std::vector<double> inertia;               ///< n: α_d J_i
+    std::vector<double> particle_inverse_mass; ///< n: 1/(α_d m_i), 0 for kinematic particles
+    std::vector<double> weighted_young;        ///< bonds: α E_μ (energy of the weighted beams)
+    std::vector<double> weighted_shear;        ///< bonds: α G_μ
+    // CNEM side.
+    std::vector<double> cell_weight;       ///< N: ᾱ_c,L
+    std::vector<double> tet_weight;        ///< tets: mean α_c
+    std::vector<double> node_mass;         ///< N: ρ ᾱ_c,L V_L
+    std::vector<double> node_inverse_mass; ///< 3N: 1/M̃_J, 0 on Dirichlet DOFs
+    // Constraint.
+    std::vector<std::int32_t> particle;     ///< bridging particles (α_c(x_i) > 0)
+    std::vector<double> quadrature;         ///< w_i: particle volume 4/3 π R³, µm³
+    std::vector<std::int32_t> offset, node; ///< CSR rows of N_J(x_i)
+    std::vector<double> value;
+    std::vector<std::int32_t> multiplier;                        ///< per entry: K or −1
+    std::vector<std::int32_t> multiplier_node;                   ///< K → J
+    std::vector<double> multiplier_weight;                       ///< K: Σ_i w_i N_K(x_i), µm³
+    std::vector<std::int32_t> node_offset, node_entry, node_row; ///< transpose J → entries
+    std::shared_ptr<const BridgeFactor> factor;
+    // Scratch of the projection.
+    std::vector<double> mismatch, residual, lambda, lambda_at_particle, cnem_scratch;
+
+    BridgeView view() const;
+    /// The DEM particles with the weighted mass and inertia (for halfKick, drift, kineticEnergy).
+    ParticleView demView(Particles& p) const;
+    /// The DEM bonds with weighted E_μ, G_μ (for beamStrainEnergy: the weighted strain energy).
+    BondView weightedBondView(Bonds& b) const;
+    /// The CNEM tables with the partition weights.
+    CnemView cnemView(CnemModel& m) const;
+    /// The CNEM state with the weighted lumped mass.
+    CnemStateView cnemState(CnemModel& m) const;
+    std::size_t multipliers() const { return multiplier_node.size(); }
+};
+
+/// Builds the bridge. Throws std::invalid_argument when a DEM particle has α_d = 0 (the zone's DEM edge must
+/// lie beyond every particle, §4.3), a CNEM node has ᾱ_c = 0 (the CNEM domain must not reach into the
+/// DEM-only region), or a bridging particle lies outside the CNEM domain. Call after Dirichlet DOFs and
+/// kinematic flags are set (they enter the factorised matrix).
+Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemModel& cnem,
+                   const BridgeZone& zone, const BridgeOptions& options = {});
+
+/// Weighted forces of both models: DEM beam loads × α_d(mid) gathered into particles.force/torque
+/// (overwritten); CNEM f_int with the cell/tet weights plus external_force into cnem.force.
+void computeCoupledForces(Particles& particles, Bonds& bonds, const Incidence& incidence, CnemModel& cnem,
+                          Bridge& bridge);
+
+/// Projects the velocities onto the constraint (§4.4 steps 3–5): g = G_d v + G_c V, A λ = −g, correction.
+void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bridge);
+
+/// The constraint residual max_K |g_K| / Σ_i w_i N_K(x_i): the largest L2-averaged velocity mismatch, km/s.
+double constraintResidual(Particles& particles, CnemModel& cnem, Bridge& bridge);
+
+/// One coupled step of Δt (kick–drift–kick with RATTLE projections). Needs the forces of the current state
+/// (computeCoupledForces once before the first step); leaves them at the new state.
+void stepCoupled(Particles& particles, Bonds& bonds, const Incidence& incidence, CnemModel& cnem,
+                 Bridge& bridge, double dt);
+
+/// The weighted Hamiltonian (nJ): DEM kinetic (weighted masses, translation + rotation) and strain energy
+/// (weighted beams), CNEM kinetic (weighted mass) and strain energy (weighted cells).
+struct CoupledEnergy {
+    double dem_kinetic = 0.0;
+    double dem_strain = 0.0;
+    double cnem_kinetic = 0.0;
+    double cnem_strain = 0.0;
+    double total() const { return dem_kinetic + dem_strain + cnem_kinetic + cnem_strain; }
+};
+CoupledEnergy coupledEnergy(Particles& particles, Bonds& bonds, CnemModel& cnem, Bridge& bridge);
+
+/// COUP-1 checks of the weights.
+struct BridgeReport {
+    double max_partition_error = 0.0;   ///< max |α_d + α_c − 1| at particles, bond midpoints, CNEM nodes
+    std::size_t inactive_end_bonds = 0; ///< unbroken bonds with α_d(mid) > 0 and an end with α_d = 0
+    std::size_t straddling_bonds = 0;   ///< bonds whose ends lie on both sides of a zone edge
+    /// Of them, bonds whose midpoint is not on the edge (relative 1e-9 of the bond length): the midpoint rule
+    /// then misses the kink of α_d and the static consistency degrades (2–9 % in 1D, §4.5). 0 on a lattice
+    /// with edges at bond midpoints; unavoidable in a random packing.
+    std::size_t kinked_bonds = 0;
+    std::size_t bridging_particles = 0;
+    std::size_t multipliers = 0;
+    std::size_t bonds_in_zone = 0; ///< bonds with 0 < α_d(mid) < 1
+};
+BridgeReport checkBridge(const Bridge& bridge, const Particles& particles, const Bonds& bonds);
+
+/// APP-2 helper: inelastic events inside the bridging zone (α_d < 1), where the elastic CNEM cannot follow.
+struct ZoneInelasticity {
+    std::size_t broken_bonds = 0;       ///< broken bonds with α_d(mid) < 1
+    std::size_t densified_bonds = 0;    ///< bonds with slip ≠ 0 and α_d(mid) < 1 (densification enabled)
+    std::size_t released_particles = 0; ///< released particles with α_d < 1 (fracture enabled)
+    bool elastic() const { return broken_bonds == 0 && densified_bonds == 0 && released_particles == 0; }
+};
+ZoneInelasticity zoneInelasticity(const Bridge& bridge, const Particles& particles, const Bonds& bonds);
+/// Throws RuntimeFailure naming the counts when the zone is not elastic.
+void assertZoneElastic(const Bridge& bridge, const Particles& particles, const Bonds& bonds);
+
+} // namespace vitrum
