@@ -214,7 +214,8 @@ int runScene(const RunOptions& options) {
             const LinearContact law = contactLaw(scene, model);
             log << "\n  contact    k_n = " << law.normal_stiffness * 1e3 << " N/m, e = " << scene.contact.restitution
                 << ", k_t/k_n = " << scene.contact.tangential_ratio << ", mu = " << law.friction << ", skin "
-                << model.contacts.skin << " um";
+                << model.contacts.skin << " um; adds omega_c = " << std::sqrt(contactOmegaSquared(scene, model))
+                << " rad/ns to the time-step bound (beams: " << frequency.omega << " rad/ns)";
         }
         log << "\n  effects    ";
         for (std::size_t k = 0; k < scene.effects.size(); ++k) {

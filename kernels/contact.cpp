@@ -81,6 +81,53 @@ void gatherContactLoads(const IncidenceView& inc, const ContactPairView& c, cons
     });
 }
 
+void contactStiffnessProduct(const LinearContact& law, const ContactPairView& c, const IncidenceView& inc,
+                             const double* position, const double* radius, const double* mass, const double* inertia,
+                             const std::uint32_t* flags, const double* x, double* y) {
+    const auto held = [&](std::size_t q) { return (flags[q] & kKinematic) != 0; };
+    parallelFor("contacts.stiffness", c.n, [&](std::size_t k) {
+        const std::size_t i = static_cast<std::size_t>(c.i[k]);
+        const std::size_t j = static_cast<std::size_t>(c.j[k]);
+        const Vec3 d = load3(position, j) - load3(position, i);
+        const double dist = d.norm();
+        const Vec3 n = dist > 0.0 ? Vec3(d / dist) : Vec3::UnitX();
+        const auto motion = [&](std::size_t q, Vec3& u, Vec3& theta) {
+            if (held(q)) {
+                u.setZero();
+                theta.setZero();
+            } else {
+                u = Vec3(x[6 * q], x[6 * q + 1], x[6 * q + 2]) / std::sqrt(mass[q]);
+                theta = Vec3(x[6 * q + 3], x[6 * q + 4], x[6 * q + 5]) / std::sqrt(inertia[q]);
+            }
+        };
+        Vec3 ui, ti, uj, tj;
+        motion(i, ui, ti);
+        motion(j, uj, tj);
+        // Displacement of j's contact point relative to i's; f_i = k_n s_n + k_t s_t pulls i along.
+        const Vec3 s = (uj + tj.cross(-radius[j] * n)) - (ui + ti.cross(radius[i] * n));
+        const Vec3 sn = s.dot(n) * n;
+        const Vec3 f = law.normal_stiffness * sn + law.tangential_stiffness * (s - sn);
+        store3(c.force, k, f);
+        store3(c.torque_i, k, (radius[i] * n).cross(f));
+        store3(c.torque_j, k, (radius[j] * n).cross(f));
+    });
+    parallelFor("contacts.stiffness_gather", inc.n, [&](std::size_t q) {
+        Vec3 f = Vec3::Zero();
+        Vec3 t = Vec3::Zero();
+        for (std::int32_t e = inc.offset[q]; e < inc.offset[q + 1]; ++e) {
+            const std::int32_t code = inc.entry[e];
+            const std::size_t k = static_cast<std::size_t>(code >> 1);
+            f += ((code & 1) ? -1.0 : 1.0) * load3(c.force, k);
+            t += load3((code & 1) ? c.torque_j : c.torque_i, k);
+        }
+        const bool h = held(q);
+        for (int m = 0; m < 3; ++m) { // K = −∂F/∂q
+            y[6 * q + m] = h ? 0.0 : -f[m] / std::sqrt(mass[q]);
+            y[6 * q + 3 + m] = h ? 0.0 : -t[m] / std::sqrt(inertia[q]);
+        }
+    });
+}
+
 double contactOmegaSquaredBound(const LinearContact& law, double min_mass, int max_contacts) {
     const double kn = law.normal_stiffness;
     const double kt = law.tangential_stiffness;

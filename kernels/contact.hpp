@@ -82,6 +82,14 @@ void computeContactLoads(const LinearContact& law, const ContactPairView& pairs,
 /// Adds each particle's active pair loads (pair-CSR order) to its force and torque.
 void gatherContactLoads(const IncidenceView& incidence, const ContactPairView& pairs, const ParticleView& particles);
 
+/// y = M^{-1/2} K_c M^{-1/2} x for the linearised contact stiffness K_c of every listed pair taken as touching
+/// (normal k_n, tangential k_t, arms R_i and R_j): x and y hold 6 values per particle (translation, rotation);
+/// kinematic particles are held (y = 0, their x ignored). Per-pair loads into pairs.force/torque_i/torque_j,
+/// then a gather over the pair CSR: thread-count independent. For the power iteration of the time step.
+void contactStiffnessProduct(const LinearContact& law, const ContactPairView& pairs, const IncidenceView& incidence,
+                             const double* position, const double* radius, const double* mass, const double* inertia,
+                             const std::uint32_t* flags, const double* x, double* y);
+
 /// Bound on the squared angular frequency the contacts can add to the stiffness (rad²/ns²): block Gershgorin
 /// on the mass-normalised contact stiffness with up to `max_contacts` contacts per particle (12: the kissing
 /// number of equal spheres), arms up to the radius and J = 2/5 m R²:

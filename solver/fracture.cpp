@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <random>
 
 #include "kernels/parallel.hpp"
 #include "solver/model.hpp"
@@ -57,8 +58,66 @@ double contactOmegaSquared(const Scene& scene, const Model& model) {
     if (!scene.hasEffect("contact") || model.particles.size() == 0) {
         return 0.0;
     }
-    const double min_mass = *std::min_element(model.particles.mass.begin(), model.particles.mass.end());
-    return contactOmegaSquaredBound(contactLaw(scene, model), min_mass);
+    const Particles& p = model.particles;
+    const std::size_t n = p.size();
+    const LinearContact law = contactLaw(scene, model);
+    const double min_mass = *std::min_element(p.mass.begin(), p.mass.end());
+    const double bound = contactOmegaSquaredBound(law, min_mass); // rigorous for any contact network
+    const double zeta = law.damping_ratio;
+    const double damping = (std::sqrt(1.0 + zeta * zeta) - zeta) * (std::sqrt(1.0 + zeta * zeta) - zeta);
+    // The candidate network: every pair within the skin of touching, bonded or not, taken as a contact. Any
+    // contact network near this configuration is a subset of it, and adding a pair's (positive semi-definite)
+    // stiffness never lowers λ_max, so its λ_max bounds theirs; found by power iteration (λ_R + ‖r‖, as
+    // solver/frequency.cpp), deterministic (fixed seed, deterministic kernels).
+    double mean_radius = 0.0;
+    for (double r : p.radius) {
+        mean_radius += r / static_cast<double>(n);
+    }
+    ContactList candidates;
+    candidates.skin = scene.contact.skin_ratio * mean_radius;
+    candidates.build(p, model.bonds, model.incidence);
+    if (candidates.size() == 0) {
+        return bound;
+    }
+    const ContactPairView pairs = candidates.view();
+    const IncidenceView incidence = candidates.incidenceView();
+    std::vector<double> x(6 * n), y(6 * n);
+    std::mt19937_64 rng(4242);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    for (double& v : x) {
+        v = uniform(rng);
+    }
+    const auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
+        return parallelReduce("contacts.frequency_dot", a.size(), 0.0,
+                              [&](std::size_t k, double& acc) { acc += a[k] * b[k]; });
+    };
+    double norm = std::sqrt(dot(x, x));
+    for (double& v : x) {
+        v /= norm;
+    }
+    double lambda = 0.0;
+    double residual = 0.0;
+    for (int it = 0; it < 100; ++it) {
+        contactStiffnessProduct(law, pairs, incidence, p.position.data(), p.radius.data(), p.mass.data(),
+                                p.inertia.data(), p.flags.data(), x.data(), y.data());
+        lambda = dot(x, y);
+        double r2 = 0.0;
+        for (std::size_t k = 0; k < x.size(); ++k) {
+            r2 += (y[k] - lambda * x[k]) * (y[k] - lambda * x[k]);
+        }
+        residual = std::sqrt(r2);
+        norm = std::sqrt(dot(y, y));
+        if (!(norm > 0.0) || !(lambda > 0.0)) {
+            return bound;
+        }
+        for (std::size_t k = 0; k < x.size(); ++k) {
+            x[k] = y[k] / norm;
+        }
+        if (residual < 0.02 * lambda) {
+            break;
+        }
+    }
+    return std::min(bound, (lambda + residual) / damping);
 }
 
 void addContactPhases(Step& step, const Scene& scene, Model& model) {

@@ -50,8 +50,11 @@ LinearContact contactLaw(const Scene& scene, const Model& model);
 /// Ω_i of the scene: the packing fraction (1 for volume = "sphere").
 ParticleVolume particleVolume(const Scene& scene);
 
-/// The squared angular frequency bound the contacts add (0 without the effect `contact`); see
-/// contactOmegaSquaredBound. The driver adds it to the beams' ω_max².
+/// The squared angular frequency the contacts can add (0 without the effect `contact`), rad²/ns²: the largest
+/// eigenvalue of the mass-normalised contact stiffness of the candidate network (every pair within the skin of
+/// touching taken as a contact; power iteration, λ_R + ‖r‖), over (√(1+ζ²) − ζ)² for the dashpot, capped by the
+/// block-Gershgorin bound contactOmegaSquaredBound (any network of up to 12 contacts per particle). The driver
+/// adds it to the beams' ω_max² (Weyl). Valid while fragments do not pack denser than the sample.
 double contactOmegaSquared(const Scene& scene, const Model& model);
 
 /// Adds the contact phases (effect contact) to `step` and sizes the list; call right after bonds.gather.

@@ -321,6 +321,34 @@ TEST(VirialStress, ContactForcesEnterLikeBondForcesAndCompressionIsNegative) {
     EXPECT_EQ(s[1], 0.0);
 }
 
+TEST(ContactFrequency, PowerIterationFindsThePairEigenvalueAndStaysBelowTheBound) {
+    // One pair of equal spheres touching, no dashpot (e = 1): the mass-normalised contact stiffness has the
+    // eigenvalues 2k_n/m (normal) and k_t (2/m + 2R²/J) = 7 k_t/m (tangential with rolling, J = 2/5 m R²);
+    // with k_t = k_n/2 the top one is 3.5 k_n/m. The estimate (λ_R + ‖r‖) is on the safe side within 2 %.
+    Model m;
+    m.particles = Particles::spheres({Vec3(0, 0, 0), Vec3(1, 0, 0)}, {0.5, 0.5}, 1.0);
+    m.incidence = Incidence::build(2, m.bonds);
+    Scene s;
+    s.effects = {"elasticity", "contact"};
+    s.contact.normal_stiffness = 10.0;
+    s.contact.restitution = 1.0;
+    const double exact = 3.5 * 10.0 / m.particles.mass[0];
+    const double estimate = contactOmegaSquared(s, m);
+    EXPECT_GE(estimate, exact * (1 - 1e-12));
+    EXPECT_LE(estimate, 1.02 * exact);
+    // On a lattice: between the pair value and the block-Gershgorin bound of 12 contacts per particle.
+    Model l = lattice(500);
+    const double lattice_estimate = contactOmegaSquared(s, l);
+    const double bound = contactOmegaSquaredBound(contactLaw(s, l), l.particles.mass[0]);
+    EXPECT_GT(lattice_estimate, 3.5 * contactLaw(s, l).normal_stiffness / l.particles.mass[0]);
+    EXPECT_LT(lattice_estimate, bound);
+    std::printf("fcc: contact omega^2 estimate %.4g, bound %.4g (ratio %.3f)\n", lattice_estimate, bound,
+                lattice_estimate / bound);
+    // Without the effect: nothing.
+    Scene plain;
+    EXPECT_EQ(contactOmegaSquared(plain, l), 0.0);
+}
+
 TEST(ContactLaw, InitialOverlapIsTheStressFreeState) {
     // A bonded pair created overlapping by 1 % breaks: no contact force until it is pushed closer.
     Model m = pair(0.0);
