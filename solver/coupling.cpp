@@ -149,6 +149,7 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
         b.tet_weight[t] = mean;
     }
     b.cell_weight.resize(N);
+    b.mass_weight.resize(N);
     b.node_mass.resize(N);
     b.node_inverse_mass.resize(3 * N);
     for (std::size_t L = 0; L < N; ++L) {
@@ -158,7 +159,10 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
                 "bridging zone: CNEM node " + std::to_string(L) +
                 " has zero weight; the CNEM domain must not reach into the DEM-only region");
         }
-        b.cell_weight[L] = w;
+        b.mass_weight[L] = w;
+        b.cell_weight[L] = options.cell_weight == BridgeOptions::CellWeight::Nodal
+                               ? zone.cnem(load3(mesh.position.data(), L))
+                               : w;
         b.node_mass[L] = cnem.material.density * w * mesh.volume[L];
         for (std::size_t c = 0; c < 3; ++c)
             b.node_inverse_mass[3 * L + c] = cnem.fixed[3 * L + c] ? 0.0 : 1.0 / b.node_mass[L];
@@ -262,7 +266,10 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
         const SparseMatrix A = Ad + SparseMatrix(Gc * inv_mc.asDiagonal()) * SparseMatrix(Gc.transpose());
         auto llt = std::make_unique<Cholesky>(A);
         if (llt->info() != Eigen::Success)
-            throw std::runtime_error("bridging zone: the constraint matrix is not positive definite");
+            throw std::runtime_error(
+                "bridging zone: the constraint matrix is not positive definite (the particle "
+                "quadrature does not resolve the CNEM nodes: the mediator needs a CNEM spacing "
+                "of about two particle spacings or more)");
         factor->of_component[c] = patterns.size();
         patterns.push_back(inv_mc);
         factor->factor.push_back(std::move(llt));

@@ -37,6 +37,7 @@ struct CoupledBarSpec {
     double jitter = 0.3;
     double beta = 0.05; ///< CNEM stabilisation
     BridgeZone::Profile profile = BridgeZone::Profile::Linear;
+    BridgeOptions options;
 };
 
 /// The DEM model only (no bridge): kinematic flags and Dirichlet DOFs can be set before buildCoupledBridge.
@@ -80,7 +81,7 @@ inline BridgeZone barZone(const CoupledBarSpec& spec) {
 }
 
 inline void buildCoupledBridge(CoupledBar& bar, const CoupledBarSpec& spec) {
-    bar.bridge = buildBridge(bar.dem.particles, bar.dem.bonds, bar.cnem, barZone(spec));
+    bar.bridge = buildBridge(bar.dem.particles, bar.dem.bonds, bar.cnem, barZone(spec), spec.options);
 }
 
 } // namespace vitrum::testing
