@@ -164,6 +164,16 @@ void printImprintTable(std::ostream& log, const Scene& scene, const nlohmann::or
     };
     row("vitrum", m["V_minus_um3"], m["V_plus_um3"], m["V_d_um3"], m["depth_um"], m["diagonal_um"]);
     const std::string load = light ? "0.1 N" : "0.5 N";
+    // Sharp indentation is self-similar (no length scale in the pyramid, the elasticity or the slider):
+    // lengths go with √F and volumes with F^(3/2). A run at another load is shown scaled to the paper's.
+    const double reference = light ? 0.1 : 0.5;
+    const double f_max = m["max_force_N"].get<double>();
+    if (f_max > 0.0 && std::abs(f_max / reference - 1.0) > 0.05) {
+        const double l = std::sqrt(reference / f_max);
+        const double v = l * l * l;
+        row("vitrum scaled to " + load, v * m["V_minus_um3"].get<double>(), v * m["V_plus_um3"].get<double>(),
+            v * m["V_d_um3"].get<double>(), l * m["depth_um"].get<double>(), l * m["diagonal_um"].get<double>());
+    }
     if (light) {
         for (const Table4Row& r : kTable4_01N) {
             row(std::string(r.source) + " @" + load, r.v_minus, r.v_plus, r.v_d, r.depth, r.diagonal);
