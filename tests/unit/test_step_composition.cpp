@@ -63,6 +63,20 @@ TEST(StepComposition, EachEffectAddsItsPhases) {
     l = labels(composeStep(s, d));
     EXPECT_TRUE(has(l, "bonds.beam_loads+densification"));
     EXPECT_TRUE(d.bonds.densificationEnabled());
+    EXPECT_FALSE(d.indenter.has_value());
+
+    // The indenter: its move phase right after the drift, its contact phase right after the gather (the
+    // gather overwrites the forces, the damping acts on the total), and its state only with the effect.
+    s.effects = {"elasticity", "indenter"};
+    s.stages = {StageParams{}};
+    s.boundaries.clear();
+    Model t = buildModel(s, 1.0);
+    l = labels(composeStep(s, t));
+    ASSERT_TRUE(t.indenter.has_value());
+    EXPECT_EQ(t.indenter->contact_force.size(), 3 * t.particles.size());
+    const auto at = [&](const char* label) { return std::find(l.begin(), l.end(), label) - l.begin(); };
+    EXPECT_EQ(at("indenter.move"), at("integrate.kick_drift") + 1);
+    EXPECT_EQ(at("indenter.contact"), at("bonds.gather") + 1);
 }
 
 } // namespace
