@@ -11,12 +11,14 @@
 #include <cstdio>
 #include <numbers>
 #include <random>
+#include <unordered_map>
 #include <vector>
 
 #include <fftw3.h>
 #include <gtest/gtest.h>
 
 #include "kernels/bond_kernels.hpp"
+#include "kernels/integrate.hpp"
 #include "solver/frequency.hpp"
 #include "support/coupling_fixture.hpp"
 
@@ -250,6 +252,238 @@ TEST(CouplingDynamics, StableAtTheDemTimeStep) {
         steps, dt, early, late);
     EXPECT_LE(early, 2.0);
     EXPECT_LE(late, 1.05 * early);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// COUP-4/6: reflection and transmission of a right-going Gaussian pulse (σ = H, 2H, 4H, 8H; H = 2 µm)
+// crossing the zone from the DEM side, all on the same bar and CNEM mesh. The coupled system is linear, so
+// the reflected wave is exactly the difference between the coupled run and an all-DEM reference bar (the same
+// lattice continued through the CNEM region) in the DEM-only region x < x_in: R = energy of that difference
+// field / incident energy (the note's "R − R_allDEM-baseline"). T = energy in the CNEM-only region / incident
+// energy. Measured at the time t_m when the incident tail has crossed the zone with a 40 % allowance for the
+// slower SCNI waves (finding 1 of the CNEM section: c_h/c ≈ 0.90 at λ = 8H), before any wave reflected at a
+// bar end comes back. Asserted: the note's COUP-6 bounds (R ≤ 1 %, T ≥ 95 % for σ ≥ 4H; R ≤ 10 % at 2H).
+//
+// Spectrum (FFTW, printed, not asserted): E(k) of the layer-mean axial field of the difference over that of
+// the incident pulse. Finding: the per-wavelength ratio is not yet a property of the interface alone — runs
+// of different σ disagree by up to 10× at the same λ, and for σ ≥ 4H the axial (layer-mean) part is only
+// 1/10–1/4 of R: most of the reflected energy is lateral motion (the jittered 2 × 2-cell CNEM cross-section
+// converts axial into lateral waves, which the SC lattice carries slowly), and energy still ringing out of
+// the zone at t_m is cut off by the window. A clean R(λ) needs a longer DEM region (no truncation) and
+// lateral fields in the spectrum.
+
+namespace {
+
+struct PulseRun {
+    double sigma = 0.0;
+    double reflection = 0.0;   ///< R
+    double transmission = 0.0; ///< T
+    double in_zone = 0.0;      ///< energy left in the zone / E0
+    double c = 0.0;
+    /// Layer means over x < x_in: v_x and the strain between consecutive layers, of the incident pulse (t =
+    /// 0) and of the difference field at t_m.
+    std::vector<double> incident, reflected, incident_strain, reflected_strain;
+};
+
+/// Key of an SC lattice site (a = 1, centres at integer + ½).
+long siteKey(const Vec3& X) {
+    return (std::lround(X.x() - 0.5) * 16 + std::lround(X.y() - 0.5)) * 16 + std::lround(X.z() - 0.5);
+}
+
+/// One pulse of width σ on the bar sized for pulses up to σ_max (the same bar and CNEM mesh for every σ, so
+/// that the per-wavelength reflection of different pulses can be compared).
+PulseRun runPulse(double sigma, double sigma_max) {
+    const double H = 2.0;
+    const double x0 = 8.0 * sigma_max + 4.0;
+    CoupledBarSpec spec;
+    spec.cnem_spacing = H;
+    spec.zone_inner = std::ceil(x0 + 4.0 * sigma_max) + 2.0;
+    spec.dem_length = static_cast<int>(spec.zone_inner) + 6;
+    spec.cnem_length = spec.dem_length + std::ceil((10.0 * sigma_max + 4.0) / H) * H;
+    CoupledBar bar = testing::makeCoupledBar(spec);
+    testing::buildCoupledBridge(bar, spec);
+    const double dt = demStep(bar.dem);
+    const double v0 = 1e-4;
+    launchPulse(bar, x0, sigma, v0);
+    Particles& p = bar.dem.particles;
+    const double e0 = coupledEnergy(p, bar.dem.bonds, bar.cnem, bar.bridge).total();
+    const double tm =
+        ((spec.zone_inner - (x0 - 4.0 * sigma)) + 1.4 * (spec.dem_length - spec.zone_inner + 8.0 * sigma)) /
+        bar.c;
+    const int steps = static_cast<int>(std::ceil(tm / dt));
+
+    // All-DEM reference: the lattice continued to the CNEM's far end, the same pulse, plain kernels.
+    CoupledBarSpec ref_spec = spec;
+    ref_spec.dem_length = static_cast<int>(spec.cnem_length);
+    Model ref = testing::makeCoupledBar(ref_spec).dem;
+    {
+        Particles& q = ref.particles;
+        for (std::size_t i = 0; i < q.size(); ++i) {
+            const double X = q.initial_position[3 * i];
+            q.position[3 * i] = X + v0 * sigma / bar.c * std::sqrt(std::numbers::pi / 2.0) *
+                                        (1.0 - std::erf((X - x0) / (sigma * std::sqrt(2.0))));
+            q.velocity[3 * i] = v0 * std::exp(-0.5 * (X - x0) * (X - x0) / (sigma * sigma));
+        }
+        const ParticleView pv = q.view();
+        const BondView bv = ref.bonds.view();
+        computeBeamLoads(bv, pv);
+        gatherBondLoads(ref.incidence.view(), bv, pv);
+        for (int n = 0; n < steps; ++n) {
+            halfKick(pv, dt);
+            drift(pv, dt);
+            computeBeamLoads(bv, pv);
+            gatherBondLoads(ref.incidence.view(), bv, pv);
+            halfKick(pv, dt);
+        }
+    }
+    const std::size_t layers = static_cast<std::size_t>(spec.zone_inner);
+    PulseRun run;
+    run.sigma = sigma;
+    run.c = bar.c;
+    run.incident.assign(layers, 0.0);
+    run.reflected.assign(layers, 0.0);
+    std::vector<double> ui(layers, 0.0), ur(layers, 0.0);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double X = p.initial_position[3 * i];
+        if (X < spec.zone_inner) {
+            run.incident[static_cast<std::size_t>(X)] += p.velocity[3 * i] / 9.0;
+            ui[static_cast<std::size_t>(X)] += (p.position[3 * i] - X) / 9.0;
+        }
+    }
+    for (int n = 0; n < steps; ++n)
+        step(bar, dt);
+
+    // Difference field in the DEM-only region: kinetic energy of Δv and axial strain energy of Δu.
+    std::unordered_map<long, std::size_t> ref_index;
+    for (std::size_t i = 0; i < ref.particles.size(); ++i)
+        ref_index[siteKey(load3(ref.particles.initial_position.data(), i))] = i;
+    std::vector<double> du(p.size(), 0.0);
+    double reflected = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec3 X = load3(p.initial_position.data(), i);
+        if (X.x() >= spec.zone_inner)
+            continue;
+        const std::size_t r = ref_index.at(siteKey(X));
+        const Vec3 dv = load3(p.velocity.data(), i) - load3(ref.particles.velocity.data(), r);
+        du[i] = p.position[3 * i] - ref.particles.position[3 * r];
+        reflected += 0.5 * p.mass[i] * dv.squaredNorm();
+        run.reflected[static_cast<std::size_t>(X.x())] += dv.x() / 9.0;
+        ur[static_cast<std::size_t>(X.x())] += du[i] / 9.0;
+    }
+    for (std::size_t l = 0; l + 1 < layers; ++l) {
+        run.incident_strain.push_back(ui[l + 1] - ui[l]);
+        run.reflected_strain.push_back(ur[l + 1] - ur[l]);
+    }
+    const Bonds& b = bar.dem.bonds;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        const std::size_t i = static_cast<std::size_t>(b.i[k]), j = static_cast<std::size_t>(b.j[k]);
+        const double Xi = p.initial_position[3 * i], Xj = p.initial_position[3 * j];
+        if (Xi < spec.zone_inner && Xj < spec.zone_inner && std::abs(Xj - Xi) > 0.5)
+            reflected += 0.5 * bar.k * (du[j] - du[i]) * (du[j] - du[i]);
+    }
+    // CNEM-only region (mass weight 1): kinetic and strain energy of the cells and tets entirely there.
+    std::vector<double> cw(bar.cnem.nodes()), tw(bar.cnem.mesh.tetCount());
+    double transmitted = 0.0;
+    for (std::size_t J = 0; J < bar.cnem.nodes(); ++J) {
+        cw[J] = bar.bridge.mass_weight[J] == 1.0 ? 1.0 : 0.0;
+        transmitted +=
+            0.5 * cw[J] * bar.bridge.node_mass[J] * load3(bar.cnem.velocity.data(), J).squaredNorm();
+    }
+    for (std::size_t t = 0; t < tw.size(); ++t)
+        tw[t] = bar.bridge.tet_weight[t] == 1.0 ? 1.0 : 0.0;
+    CnemView v = bar.cnem.tables();
+    v.cell_weight = cw.data();
+    v.tet_weight = tw.data();
+    std::vector<double> scratch(3 * bar.cnem.nodes());
+    transmitted += cnemInternalForces(v, bar.cnem.law, bar.cnem.displacement.data(), scratch.data(), true);
+    const double total = coupledEnergy(p, bar.dem.bonds, bar.cnem, bar.bridge).total();
+    double dem_only = 0.0; // the coupled run's own energy in x < x_in (reflection + lattice dispersion tail)
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.initial_position[3 * i] < spec.zone_inner)
+            dem_only += 0.5 * p.mass[i] * load3(p.velocity.data(), i).squaredNorm();
+    }
+    run.reflection = reflected / e0;
+    run.transmission = transmitted / e0;
+    run.in_zone = (total - transmitted) / e0 - 2.0 * dem_only / e0;
+    std::printf(
+        "COUP-6 σ = %4.1f µm = %.0fH: %d steps, R = %.2e, T = %.5f, H(t_m)/H0 − 1 = %.1e (%zu particles, %zu "
+        "nodes)\n",
+        sigma, sigma / H, steps, run.reflection, run.transmission, total / e0 - 1.0, p.size(),
+        bar.cnem.nodes());
+    return run;
+}
+
+/// |FFT|² of a real signal zero-padded to n (FFTW r2c): bins 0 … n/2.
+std::vector<double> powerSpectrum(const std::vector<double>& signal, int n) {
+    std::vector<double> in(static_cast<std::size_t>(n), 0.0);
+    std::copy(signal.begin(), signal.end(), in.begin());
+    std::vector<fftw_complex> out(static_cast<std::size_t>(n / 2 + 1));
+    fftw_plan plan = fftw_plan_dft_r2c_1d(n, in.data(), out.data(), FFTW_ESTIMATE);
+    fftw_execute(plan);
+    fftw_destroy_plan(plan);
+    std::vector<double> power(out.size());
+    for (std::size_t k = 0; k < out.size(); ++k)
+        power[k] = out[k][0] * out[k][0] + out[k][1] * out[k][1];
+    return power;
+}
+
+} // namespace
+
+TEST(CouplingWaves, ReflectionAndTransmissionOfAPulse) {
+    const double H = 2.0;
+    std::vector<PulseRun> runs;
+    for (double s : {1.0, 2.0, 4.0, 8.0})
+        runs.push_back(runPulse(s * H, 8.0 * H));
+    // Spectral reflection per wavelength (a = 1 µm layers, 4096-point transform: Δk = 2π/4096 µm⁻¹).
+    const int n = 4096;
+    std::printf("COUP-6 spectral R(λ) = E_refl(k)/E_inc(k) (where the run's incident power exceeds 1e-4 of "
+                "its peak):\n");
+    std::printf("  λ/H  ");
+    for (const PulseRun& r : runs)
+        std::printf("   σ = %2.0fH ", r.sigma / H);
+    std::printf("\n");
+    // Energy per wavenumber, E(k) ∝ |v̂|² + c²|ε̂|²: for the SC chain ω(k)|û| = c|ε̂| exactly (ε the bond strain
+    // u_{l+1} − u_l, a = 1), so the sum is the modal energy, free of the interference between the reflected
+    // wave and its own echo from the free end x = 0 that a velocity spectrum alone would show.
+    std::vector<std::vector<double>> inc, ref;
+    for (const PulseRun& r : runs) {
+        std::vector<double> ei = powerSpectrum(r.incident, n), er = powerSpectrum(r.reflected, n);
+        const std::vector<double> si = powerSpectrum(r.incident_strain, n),
+                                  sr = powerSpectrum(r.reflected_strain, n);
+        for (std::size_t k = 0; k < ei.size(); ++k) {
+            ei[k] += r.c * r.c * si[k];
+            er[k] += r.c * r.c * sr[k];
+        }
+        inc.push_back(ei);
+        ref.push_back(er);
+    }
+    for (double lh : {2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0}) {
+        const std::size_t k = static_cast<std::size_t>(std::lround(n / (lh * H)));
+        std::printf("  %4.0f ", lh);
+        for (std::size_t r = 0; r < runs.size(); ++r) {
+            if (inc[r][k] > 1e-4 * inc[r][0])
+                std::printf("   %9.2e ", ref[r][k] / inc[r][k]);
+            else
+                std::printf("   %9s ", "-");
+        }
+        std::printf("\n");
+    }
+    // Note §6.4 COUP-6: R ≤ 1 % and T ≥ 95 % for σ ≥ 4H; R ≤ 10 % for σ = 2H.
+    EXPECT_LE(runs[1].reflection, 0.10);
+    for (std::size_t r = 2; r < runs.size(); ++r) {
+        EXPECT_LE(runs[r].reflection, 0.01) << "σ = " << runs[r].sigma;
+        EXPECT_GE(runs[r].transmission, 0.95) << "σ = " << runs[r].sigma;
+    }
+    // Parseval: the spectral sums give the axial share of R (lateral motion is not in the layer means).
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+        double si = 0.0, sr = 0.0;
+        for (std::size_t k = 0; k < inc[r].size(); ++k) {
+            si += inc[r][k];
+            sr += ref[r][k];
+        }
+        std::printf("  σ = %.0fH: ΣE_refl/ΣE_inc = %.2e against R = %.2e\n", runs[r].sigma / H, sr / si,
+                    runs[r].reflection);
+    }
 }
 
 } // namespace
