@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -242,6 +243,91 @@ TEST(CouplingZone, ElasticZoneAssertion) {
     bar.dem.particles.released[static_cast<std::size_t>(bar.bridge.particle[0])] = 1;
     EXPECT_EQ(zoneInelasticity(bar.bridge, bar.dem.particles, b).released_particles, 1u);
     EXPECT_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b), RuntimeFailure);
+}
+
+} // namespace
+} // namespace vitrum
+
+namespace vitrum {
+namespace {
+
+// The paper's geometry, reduced: an FCC DEM hemisphere (R_d = 5 µm, ~2 000 particles, spacing ≈ 0.5 µm)
+// under the indented face, the CNEM indentation domain (12 µm box minus the ball R_in = 4 µm, ~1 500 nodes,
+// h ≈ 1 µm) and a radial zone R_in ≤ r ≤ R_d. Checks COUP-1 (partition, no active bond with an inactive
+// end; bonds crossing the inner sphere away from their midpoint are counted, unavoidable on a lattice cut by
+// a sphere), the constraint projection to round-off and COUP-2's uniform translation on this geometry.
+TEST(CouplingRadial, HemisphereInTheIndentationDomain) {
+    Scene s;
+    s.sample.lattice = "fcc";
+    s.sample.shape = "hemisphere";
+    s.sample.radius = 5.0;
+    s.sample.particles = 2000;
+    s.source_path = "<test>";
+    Model dem = buildModel(s, 1.0);
+    IndentationDomainSpec ds;
+    ds.box = 12.0;
+    ds.radius = 4.0;
+    ds.nodes = 1500;
+    const NodeCloud cloud = indentationDomainCloud(ds);
+    CnemMaterial mat;
+    CnemModel cnem = makeCnemModel(buildCnemMesh(cloud.position, cloud.inside), mat);
+    BridgeZone zone;
+    zone.shape = BridgeZone::Shape::Radial;
+    zone.inner = ds.radius;
+    zone.outer = s.sample.radius;
+    Bridge bridge = buildBridge(dem.particles, dem.bonds, cnem, zone);
+    const BridgeReport r = checkBridge(bridge, dem.particles, dem.bonds);
+    std::printf(
+        "radial zone: %zu particles, %zu nodes (h = %.2f µm), %zu bridging particles, %zu multipliers, "
+        "%zu bonds in the zone, %zu crossing an edge off their midpoint, max|α_d + α_c − 1| = %.1e\n",
+        dem.particles.size(), cnem.nodes(), cloud.spacing, r.bridging_particles, r.multipliers,
+        r.bonds_in_zone, r.kinked_bonds, r.max_partition_error);
+    EXPECT_LE(r.max_partition_error, 1e-15);
+    EXPECT_EQ(r.inactive_end_bonds, 0u);
+    EXPECT_GT(r.bridging_particles, 0u);
+
+    Particles& p = dem.particles;
+    std::mt19937_64 rng(4);
+    std::normal_distribution<double> g(0.0, 1e-3);
+    for (double& v : p.velocity)
+        v = g(rng);
+    for (double& v : cnem.velocity)
+        v = g(rng);
+    projectCoupledVelocities(p, cnem, bridge);
+    const double after = constraintResidual(p, cnem, bridge);
+    EXPECT_LE(after, 1e-12 * 1e-3); // round-off of the Cholesky solve, relative to the 1e-3 km/s velocities
+
+    const Vec3 v0(1e-3, -2e-3, 5e-4);
+    for (std::size_t i = 0; i < p.size(); ++i)
+        store3(p.velocity.data(), i, v0);
+    std::fill(p.angular_velocity.begin(), p.angular_velocity.end(), 0.0);
+    for (std::size_t J = 0; J < cnem.nodes(); ++J)
+        store3(cnem.velocity.data(), J, v0);
+    computeCoupledForces(p, dem.bonds, dem.incidence, cnem, bridge);
+    for (int n = 0; n < 50; ++n)
+        stepCoupled(p, dem.bonds, dem.incidence, cnem, bridge, 0.005);
+    double dev = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+        dev = std::max(dev, (load3(p.velocity.data(), i) - v0).norm());
+    for (std::size_t J = 0; J < cnem.nodes(); ++J)
+        dev = std::max(dev, (load3(cnem.velocity.data(), J) - v0).norm());
+    std::printf("radial zone, uniform translation: max|v − v0|/|v0| = %.1e, residual %.1e km/s\n",
+                dev / v0.norm(), constraintResidual(p, cnem, bridge));
+    // The rounding floor of RestAndUniformTranslation for this sample: 12 bonds per FCC particle, each with
+    // k ulp(|x|max) of force noise, on the lightest weighted particle for 50 steps of 5 ps.
+    double k_max = 0.0, m_min = bridge.mass[0], x_max = 0.0;
+    for (std::size_t k = 0; k < dem.bonds.size(); ++k)
+        k_max = std::max(k_max, dem.bonds.young[k] * std::numbers::pi *
+                                    std::pow(dem.bonds.section_radius[k], 2) / dem.bonds.rest_length[k]);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        m_min = std::min(m_min, bridge.mass[i]);
+        x_max = std::max(x_max, load3(p.position.data(), i).cwiseAbs().maxCoeff());
+    }
+    const double floor =
+        12.0 * k_max * (std::nextafter(x_max, 2 * x_max) - x_max) * (50 * 0.005) / (m_min * v0.norm());
+    std::printf("  (rounding floor %.1e)\n", floor);
+    EXPECT_LE(dev / v0.norm(), floor);
+    EXPECT_LE(constraintResidual(p, cnem, bridge), 1e-10 * v0.norm());
 }
 
 } // namespace
