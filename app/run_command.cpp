@@ -388,6 +388,7 @@ int runScene(const RunOptions& options) {
     };
     const long watchdog_every = std::min(scene.output.every, 50L);
     ProgressReporter progress(log, verbose && ::isatty(STDOUT_FILENO), steps, verbose ? 10.0 : 1e30);
+    progress.setTotalIsBound(model.indenter.has_value()); // the stages end the run, time.duration bounds it
     g_stop_signal = 0;
     auto previous_int = std::signal(SIGINT, onStopSignal);
     auto previous_term = std::signal(SIGTERM, onStopSignal);
