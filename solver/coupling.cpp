@@ -99,13 +99,17 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
     Bridge b;
     b.zone = zone;
     const std::size_t n = particles.size();
+    // The reference configuration: weights and shape functions do not depend on when the bridge is built
+    // (a restart rebuilds the same bridge).
+    const double* X = particles.initial_position.size() == 3 * n ? particles.initial_position.data()
+                                                                 : particles.position.data();
     // DEM weights and weighted masses (§4.3).
     b.particle_weight.resize(n);
     b.mass.resize(n);
     b.inertia.resize(n);
     b.particle_inverse_mass.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        const double a = zone.dem(load3(particles.position.data(), i));
+        const double a = zone.dem(load3(X, i));
         if (!(a > 0.0)) {
             throw std::invalid_argument("bridging zone: particle " + std::to_string(i) +
                                         " has α_d = 0; put the zone's DEM edge beyond every particle (§4.3)");
@@ -120,8 +124,8 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
     b.weighted_young.resize(nb);
     b.weighted_shear.resize(nb);
     for (std::size_t k = 0; k < nb; ++k) {
-        const Vec3 mid = 0.5 * (load3(particles.position.data(), static_cast<std::size_t>(bonds.i[k])) +
-                                load3(particles.position.data(), static_cast<std::size_t>(bonds.j[k])));
+        const Vec3 mid = 0.5 * (load3(X, static_cast<std::size_t>(bonds.i[k])) +
+                                load3(X, static_cast<std::size_t>(bonds.j[k])));
         const double a = zone.dem(mid);
         b.bond_weight[k] = a;
         b.weighted_young[k] = a * bonds.young[k];
@@ -174,7 +178,7 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
         if (b.particle_weight[i] < 1.0) {
             b.particle.push_back(static_cast<std::int32_t>(i));
             for (std::size_t c = 0; c < 3; ++c)
-                points.push_back(particles.position[3 * i + c]);
+                points.push_back(X[3 * i + c]);
         }
     }
     const ShapeTable table = evaluateShapeFunctions(mesh, points);
@@ -356,15 +360,18 @@ CoupledEnergy coupledEnergy(Particles& particles, Bonds& bonds, CnemModel& cnem,
 
 BridgeReport checkBridge(const Bridge& b, const Particles& particles, const Bonds& bonds) {
     BridgeReport r;
+    const std::vector<double>& pos = particles.initial_position.size() == particles.position.size()
+                                         ? particles.initial_position
+                                         : particles.position;
     const BridgeZone& z = b.zone;
     auto partition = [&](const Vec3& x) {
         r.max_partition_error = std::max(r.max_partition_error, std::abs(z.dem(x) + z.cnem(x) - 1.0));
     };
     for (std::size_t i = 0; i < particles.size(); ++i)
-        partition(load3(particles.position.data(), i));
+        partition(load3(pos.data(), i));
     for (std::size_t k = 0; k < bonds.size(); ++k) {
-        const Vec3 xi = load3(particles.position.data(), static_cast<std::size_t>(bonds.i[k]));
-        const Vec3 xj = load3(particles.position.data(), static_cast<std::size_t>(bonds.j[k]));
+        const Vec3 xi = load3(pos.data(), static_cast<std::size_t>(bonds.i[k]));
+        const Vec3 xj = load3(pos.data(), static_cast<std::size_t>(bonds.j[k]));
         partition(0.5 * (xi + xj));
         const double a = b.bond_weight[k];
         if (a > 0.0 && a < 1.0)

@@ -98,7 +98,8 @@ struct Bridge {
     std::size_t multipliers() const { return multiplier_node.size(); }
 };
 
-/// Builds the bridge. Throws std::invalid_argument when a DEM particle has α_d = 0 (the zone's DEM edge must
+/// Builds the bridge in the reference configuration (particles.initial_position, the CNEM mesh positions).
+/// Throws std::invalid_argument when a DEM particle has α_d = 0 (the zone's DEM edge must
 /// lie beyond every particle, §4.3), a CNEM node has ᾱ_c = 0 (the CNEM domain must not reach into the
 /// DEM-only region), or a bridging particle lies outside the CNEM domain. Call after Dirichlet DOFs and
 /// kinematic flags are set (they enter the factorised matrix).

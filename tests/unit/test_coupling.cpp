@@ -66,6 +66,21 @@ TEST(CouplingWeights, PartitionAndUncutBonds) {
     EXPECT_NEAR(dem_mass, exact, 1e-12 * exact);
 }
 
+// The bridge is built in the reference configuration: moving the particles first (as a restart finds them)
+// gives the same weights and shape functions, bit for bit.
+TEST(CouplingWeights, BuiltInTheReferenceConfiguration) {
+    const CoupledBarSpec spec;
+    CoupledBar bar = readyBar(spec);
+    const Bridge before = bar.bridge;
+    for (std::size_t a = 0; a < bar.dem.particles.position.size(); ++a)
+        bar.dem.particles.position[a] += 1e-2 * std::sin(0.7 * static_cast<double>(a));
+    testing::buildCoupledBridge(bar, spec);
+    EXPECT_EQ(before.bond_weight, bar.bridge.bond_weight);
+    EXPECT_EQ(before.particle_weight, bar.bridge.particle_weight);
+    EXPECT_EQ(before.node, bar.bridge.node);
+    EXPECT_EQ(before.value, bar.bridge.value);
+}
+
 // A zone whose DEM edge does not cover every particle, or a CNEM domain reaching into the DEM-only region,
 // is refused (§4.3).
 TEST(CouplingWeights, RefusesInactiveParticlesAndWeightlessNodes) {

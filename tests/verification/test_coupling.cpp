@@ -82,14 +82,8 @@ StrainCrossing uniformStrainCrossing(BridgeOptions::CellWeight cell_weight) {
             end_face.push_back(static_cast<std::int32_t>(J));
     }
     fixCnemNodes(bar.cnem, end_face, {true, false, false});
-    // The weights are those of the reference configuration: build the bridge on the unstrained positions.
-    {
-        std::vector<double> strained = p.position;
-        p.position = p.initial_position;
-        testing::buildCoupledBridge(bar, spec);
-        p.position = strained;
-    }
-    const double dt = demStep(bar.dem); // before the forces: the estimate overwrites particles.force
+    testing::buildCoupledBridge(bar, spec); // weights of the reference (unstrained) configuration
+    const double dt = demStep(bar.dem);     // before the forces: the estimate overwrites particles.force
     computeCoupledForces(p, bar.dem.bonds, bar.dem.incidence, bar.cnem, bar.bridge);
     const double omega1 = std::numbers::pi * bar.c / spec.cnem_length; // fundamental of the clamped bar
     const double damp = std::exp(-2.0 * omega1 * dt);                  // critical for the fundamental
