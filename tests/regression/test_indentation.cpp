@@ -14,6 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing::freshTempDir;
 using testing::readText;
+using testing::readSummary;
 using testing::runVitrum;
 
 const std::string kQuickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
@@ -23,8 +24,6 @@ const std::string kReduced =
     " --quiet --set sample.particles=1500 --set sample.radius=3.4 --set 'stage[0].until_force=0.004'"
     " --set 'stage[0].speed=0.05' --set 'stage[1].duration=5.0' --set 'stage[2].speed=0.05'"
     " --set 'stage[3].duration=20.0' --set time.duration=200.0";
-
-nlohmann::json readSummary(const fs::path& dir) { return nlohmann::json::parse(readText(dir / "summary.json")); }
 
 TEST(Indentation, ReducedQuickstartRunsEveryStageAndWritesTheImprintMetrics) {
     const fs::path dir = freshTempDir("indent");

@@ -1,6 +1,7 @@
 // test support helpers
 #include "support/test_support.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdlib>
@@ -51,6 +52,36 @@ std::string readText(const std::filesystem::path& path) {
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
+}
+
+nlohmann::json readSummary(const std::filesystem::path& dir) {
+    return nlohmann::json::parse(readText(dir / "summary.json"));
+}
+
+std::vector<std::vector<double>> readCsvColumns(const std::filesystem::path& path,
+                                               const std::vector<std::string>& names) {
+    std::istringstream in(readText(path));
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> header;
+    for (std::stringstream h(line); std::getline(h, line, ',');) {
+        header.push_back(line);
+    }
+    std::vector<std::vector<double>> columns(names.size());
+    while (std::getline(in, line)) {
+        std::vector<std::string> cells;
+        for (std::stringstream r(line); std::getline(r, line, ',');) {
+            cells.push_back(line);
+        }
+        for (std::size_t k = 0; k < names.size(); ++k) {
+            const auto at = std::find(header.begin(), header.end(), names[k]);
+            const auto c = static_cast<std::size_t>(at - header.begin());
+            if (at != header.end() && c < cells.size()) {
+                columns[k].push_back(std::stod(cells[c]));
+            }
+        }
+    }
+    return columns;
 }
 
 } // namespace vitrum::testing

@@ -3,6 +3,9 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "solver/model.hpp"
 
@@ -23,5 +26,13 @@ double totalEnergy(Model& model);
 
 /// Reads a whole text file.
 std::string readText(const std::filesystem::path& path);
+
+/// The summary.json a run wrote into `dir`.
+nlohmann::json readSummary(const std::filesystem::path& dir);
+
+/// The named columns of a CSV file with a header row (one vector of values per name, in row order); a name
+/// that is not in the header gives an empty vector.
+std::vector<std::vector<double>> readCsvColumns(const std::filesystem::path& path,
+                                               const std::vector<std::string>& names);
 
 } // namespace vitrum::testing
