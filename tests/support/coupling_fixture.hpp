@@ -12,11 +12,23 @@
 #include <cmath>
 #include <numbers>
 
+#include "kernels/parallel.hpp"
 #include "solver/coupling.hpp"
 #include "solver/model.hpp"
 #include "solver/scene.hpp"
 
 namespace vitrum::testing {
+
+/// Runs a test body on one thread (restored on exit): these bars are small, so a parallel region per kernel
+/// costs more than it saves and spinning threads on a shared machine slow the suite by orders of magnitude;
+/// the thread-count independence is tested on its own (COUP-9).
+struct SingleThread {
+    int before = threadCount();
+    SingleThread() { setThreadCount(1); }
+    ~SingleThread() { setThreadCount(before); }
+    SingleThread(const SingleThread&) = delete;
+    SingleThread& operator=(const SingleThread&) = delete;
+};
 
 struct CoupledBar {
     Model dem;

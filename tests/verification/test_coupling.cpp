@@ -138,6 +138,7 @@ StrainCrossing uniformStrainCrossing(BridgeOptions::CellWeight cell_weight) {
 }
 
 TEST(CouplingStatics, UniformStrainCrossesTheZone) {
+    const testing::SingleThread one_thread;
     const StrainCrossing s = uniformStrainCrossing(BridgeOptions::CellWeight::Nodal);
     EXPECT_LE(std::abs(s.core_mean), 0.03);
     EXPECT_LE(s.zone_dem, 0.05);
@@ -179,6 +180,7 @@ void launchPulse(CoupledBar& bar, double x0, double sigma, double v0) {
 // the O(Δt²) oscillation of the modified energy and the reflection of unresolved content remain; the SC
 // lattice under axial motion is exactly harmonic, so the beam law's first-order conservation plays no part).
 TEST(CouplingDynamics, WeightedHamiltonianIsConserved) {
+    const testing::SingleThread one_thread;
     CoupledBarSpec spec;
     spec.dem_length = 60;
     spec.zone_inner = 54.0;
@@ -215,6 +217,7 @@ TEST(CouplingDynamics, WeightedHamiltonianIsConserved) {
 // top modes' full-step energy of velocity Verlet oscillates by tens of per cent about the conserved modified
 // energy (measured: max H/H₀ 1.24, flat from the first 10⁴ steps on; 1.03 at half the step).
 TEST(CouplingDynamics, StableAtTheDemTimeStep) {
+    const testing::SingleThread one_thread;
     CoupledBarSpec spec;
     CoupledBar bar = testing::makeCoupledBar(spec);
     testing::buildCoupledBridge(bar, spec);
@@ -398,6 +401,7 @@ std::vector<double> powerSpectrum(const std::vector<double>& signal, int n) {
 } // namespace
 
 TEST(CouplingWaves, ReflectionAndTransmissionOfAPulse) {
+    const testing::SingleThread one_thread;
     const double H = 2.0;
     std::vector<PulseRun> runs;
     for (double s : {1.0, 2.0, 4.0, 8.0})
@@ -529,6 +533,7 @@ std::vector<std::vector<double>> reflectionTable(double jitter, const std::vecto
 // is above the 1e-4 noise floor of the subtraction (measured agreement 7–33 %: records of different length
 // sample the same R(ω) with different resolution).
 TEST(CouplingWaves, ReflectionPerWavelengthAtAProbe) {
+    const testing::SingleThread one_thread;
     const std::vector<double> wavelengths{3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0};
     reflectionTable(0.3, wavelengths);
     const std::vector<std::vector<double>> regular = reflectionTable(0.0, wavelengths);
