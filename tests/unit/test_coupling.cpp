@@ -83,6 +83,28 @@ TEST(CouplingWeights, BuiltInTheReferenceConfiguration) {
     EXPECT_EQ(before.value, bar.bridge.value);
 }
 
+// The cubic (smoothstep) profile: the same partition, weights in [0, 1], α_d non-increasing across the zone,
+// and the particle weights are 1 − (3s² − 2s³) exactly at s = (x − x_in)/L_b.
+TEST(CouplingWeights, CubicProfile) {
+    const testing::SingleThread one_thread;
+    CoupledBarSpec spec;
+    spec.profile = BridgeZone::Profile::Cubic;
+    CoupledBar bar = readyBar(spec);
+    const BridgeReport r = checkBridge(bar.bridge, bar.dem.particles, bar.dem.bonds);
+    EXPECT_LE(r.max_partition_error, 1e-15);
+    EXPECT_EQ(r.inactive_end_bonds, 0u);
+    const Particles& p = bar.dem.particles;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const double x = p.initial_position[3 * i];
+        const double s = std::clamp((x - spec.zone_inner) / (spec.dem_length - spec.zone_inner), 0.0, 1.0);
+        EXPECT_NEAR(bar.bridge.particle_weight[i], 1.0 - s * s * (3.0 - 2.0 * s), 1e-15);
+    }
+    for (double w : bar.bridge.cell_weight) {
+        EXPECT_GE(w, 0.0);
+        EXPECT_LE(w, 1.0);
+    }
+}
+
 // A zone whose DEM edge does not cover every particle, or a CNEM domain reaching into the DEM-only region,
 // is refused (§4.3).
 TEST(CouplingWeights, RefusesInactiveParticlesAndWeightlessNodes) {
