@@ -62,6 +62,8 @@ KineticEnergy kineticEnergy(const ParticleView& p) {
         acc.rotational += 0.5 * p.inertia[i] * w.squaredNorm();
         const double s = std::sqrt(v2);
         acc.max_speed = acc.max_speed > s ? acc.max_speed : s;
+        const double spin = w.norm();
+        acc.max_spin = acc.max_spin > spin ? acc.max_spin : spin;
         acc.finite = acc.finite && std::isfinite(v2) && std::isfinite(w.squaredNorm()) &&
                      std::isfinite(load3(p.position, i).squaredNorm());
     });

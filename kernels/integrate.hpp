@@ -24,11 +24,13 @@ struct KineticEnergy {
     double translational = 0.0;
     double rotational = 0.0;
     double max_speed = 0.0; ///< km/s, the largest |v| (for instability detection)
+    double max_spin = 0.0;  ///< rad/ns, the largest |ω| (for instability detection)
     bool finite = true;     ///< false when any velocity or position is NaN/Inf
     KineticEnergy& operator+=(const KineticEnergy& o) {
         translational += o.translational;
         rotational += o.rotational;
         max_speed = max_speed > o.max_speed ? max_speed : o.max_speed;
+        max_spin = max_spin > o.max_spin ? max_spin : o.max_spin;
         finite = finite && o.finite;
         return *this;
     }
