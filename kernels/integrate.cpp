@@ -61,11 +61,21 @@ KineticEnergy kineticEnergy(const ParticleView& p) {
         acc.translational += 0.5 * p.mass[i] * v2;
         acc.rotational += 0.5 * p.inertia[i] * w.squaredNorm();
         const double s = std::sqrt(v2);
-        acc.max_speed = acc.max_speed > s ? acc.max_speed : s;
+        if (s > acc.max_speed) {
+            acc.max_speed = s;
+            acc.fastest = static_cast<long>(i);
+        }
         const double spin = w.norm();
-        acc.max_spin = acc.max_spin > spin ? acc.max_spin : spin;
-        acc.finite = acc.finite && std::isfinite(v2) && std::isfinite(w.squaredNorm()) &&
-                     std::isfinite(load3(p.position, i).squaredNorm());
+        if (spin > acc.max_spin) {
+            acc.max_spin = spin;
+            acc.fastest_spin = static_cast<long>(i);
+        }
+        const bool finite = std::isfinite(v2) && std::isfinite(w.squaredNorm()) &&
+                            std::isfinite(load3(p.position, i).squaredNorm());
+        if (!finite && acc.first_nonfinite < 0) {
+            acc.first_nonfinite = static_cast<long>(i);
+        }
+        acc.finite = acc.finite && finite;
     });
 }
 

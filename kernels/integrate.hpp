@@ -26,11 +26,24 @@ struct KineticEnergy {
     double max_speed = 0.0; ///< km/s, the largest |v| (for instability detection)
     double max_spin = 0.0;  ///< rad/ns, the largest |ω| (for instability detection)
     bool finite = true;     ///< false when any velocity or position is NaN/Inf
+    long fastest = -1;      ///< particle with the largest |v| (the first such), -1 if none
+    long fastest_spin = -1; ///< particle with the largest |ω|
+    long first_nonfinite = -1; ///< first particle with a non-finite position or velocity
     KineticEnergy& operator+=(const KineticEnergy& o) {
         translational += o.translational;
         rotational += o.rotational;
-        max_speed = max_speed > o.max_speed ? max_speed : o.max_speed;
-        max_spin = max_spin > o.max_spin ? max_spin : o.max_spin;
+        // Ties keep the earlier operand: chunks are combined in index order, so the lowest index wins.
+        if (o.max_speed > max_speed) {
+            max_speed = o.max_speed;
+            fastest = o.fastest;
+        }
+        if (o.max_spin > max_spin) {
+            max_spin = o.max_spin;
+            fastest_spin = o.fastest_spin;
+        }
+        if (first_nonfinite < 0) {
+            first_nonfinite = o.first_nonfinite;
+        }
         finite = finite && o.finite;
         return *this;
     }

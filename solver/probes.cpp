@@ -36,13 +36,13 @@ void checkStability(const KineticEnergy& kinetic, double dt, double dt_critical,
     std::ostringstream msg;
     msg << "numerical instability detected at step " << step << " (t = " << time << " ns): ";
     if (!finite) {
-        msg << "non-finite positions or velocities";
+        msg << "non-finite positions or velocities (first: particle " << kinetic.first_nonfinite << ")";
     } else if (kinetic.max_speed * dt > 0.1 * min_radius) {
-        msg << "a particle moves " << kinetic.max_speed * dt << " um in one step, more than 0.1 x the smallest "
-            << "radius (" << min_radius << " um)";
+        msg << "particle " << kinetic.fastest << " moves " << kinetic.max_speed * dt << " um in one step, more "
+            << "than 0.1 x the smallest radius (" << min_radius << " um)";
     } else {
-        msg << "a particle turns " << kinetic.max_spin * dt << " rad in one step, more than 0.1 rad (a run-away "
-            << "rotation)";
+        msg << "particle " << kinetic.fastest_spin << " turns " << kinetic.max_spin * dt << " rad in one step, "
+            << "more than 0.1 rad (a run-away rotation)";
     }
     msg << ". The time step is " << dt << " ns = " << dt / dt_critical
         << " x the critical estimate; lower time.safety_ratio (default 0.1) or check the boundary conditions.";
