@@ -54,6 +54,30 @@ void cnemCellStrain(const CnemView& v, const double* u, std::size_t cell, double
 
 namespace {
 
+/// Stress of each of n integration regions (SCNI cells or stabilisation tets) times its share × volume (×
+/// its weight when kWeighted) into stress[6k..6k+6); returns their strain energy when want_energy (else 0).
+template <bool kWeighted, class Law, class Strain>
+double weightedStresses(const char* label, std::size_t n, const Law& law, bool want_energy, double share,
+                        const double* volume, const double* weight, double* stress, Strain&& strain) {
+    auto one = [&](std::size_t k) {
+        double eps[6];
+        strain(k, eps);
+        double* s = stress + 6 * k;
+        law.stress(eps, s);
+        double w = share * volume[k];
+        if constexpr (kWeighted)
+            w *= weight[k];
+        for (int a = 0; a < 6; ++a)
+            s[a] *= w;
+        return w * law.energyDensity(eps);
+    };
+    if (!want_energy) {
+        parallelFor(label, n, [&](std::size_t k) { one(k); });
+        return 0.0;
+    }
+    return parallelReduce(label, n, 0.0, [&](std::size_t k, double& acc) { acc += one(k); });
+}
+
 /// The force kernel; kWeighted multiplies each cell's and tet's stress by its weight (Arlequin partition).
 template <bool kWeighted>
 double internalForces(const CnemView& v, const IsotropicElasticity& law, const double* u, double* force,
@@ -63,44 +87,14 @@ double internalForces(const CnemView& v, const IsotropicElasticity& law, const d
     double energy = 0.0;
     // Pass 1: weighted stresses, each cell/tet writing its own slot.
     if (scni != 0.0) {
-        auto cellStress = [&](std::size_t L) {
-            double eps[6];
-            cnemCellStrain(v, u, L, eps);
-            double* s = v.cell_stress + 6 * L;
-            law.stress(eps, s);
-            double w = scni * v.volume[L];
-            if constexpr (kWeighted)
-                w *= v.cell_weight[L];
-            for (int a = 0; a < 6; ++a)
-                s[a] *= w;
-            return w * law.energyDensity(eps);
-        };
-        if (want_energy) {
-            energy += parallelReduce("cnem.cell_stress", v.nodes, 0.0,
-                                     [&](std::size_t L, double& acc) { acc += cellStress(L); });
-        } else {
-            parallelFor("cnem.cell_stress", v.nodes, [&](std::size_t L) { cellStress(L); });
-        }
+        energy += weightedStresses<kWeighted>(
+            "cnem.cell_stress", v.nodes, law, want_energy, scni, v.volume, v.cell_weight, v.cell_stress,
+            [&](std::size_t L, double* eps) { cnemCellStrain(v, u, L, eps); });
     }
     if (fem != 0.0) {
-        auto tetStress = [&](std::size_t t) {
-            double eps[6];
-            tetStrain(v, u, t, eps);
-            double* s = v.tet_stress + 6 * t;
-            law.stress(eps, s);
-            double w = fem * v.tet_volume[t];
-            if constexpr (kWeighted)
-                w *= v.tet_weight[t];
-            for (int a = 0; a < 6; ++a)
-                s[a] *= w;
-            return w * law.energyDensity(eps);
-        };
-        if (want_energy) {
-            energy += parallelReduce("cnem.tet_stress", v.tets, 0.0,
-                                     [&](std::size_t t, double& acc) { acc += tetStress(t); });
-        } else {
-            parallelFor("cnem.tet_stress", v.tets, [&](std::size_t t) { tetStress(t); });
-        }
+        energy += weightedStresses<kWeighted>("cnem.tet_stress", v.tets, law, want_energy, fem, v.tet_volume,
+                                              v.tet_weight, v.tet_stress,
+                                              [&](std::size_t t, double* eps) { tetStrain(v, u, t, eps); });
     }
     // Pass 2: per-node gather in fixed order.
     parallelFor("cnem.gather", v.nodes, [&](std::size_t I) {
