@@ -28,6 +28,7 @@
 #include "io/sha256.hpp"
 #include "io/units.hpp"
 #include "io/vtk_writer.hpp"
+#include "io/watchdog_report.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/strain.hpp"
 #include "kernels/timestep.hpp"
@@ -374,7 +375,17 @@ int runScene(const RunOptions& options) {
     } else {
         step.computeForces(ctx);
     }
+    // The watchdog checks every step, on the measures of the fused final kick (ctx.kinetic). The last good
+    // state is a copy of the stores taken at a recorded step that passed it, at most every 100 steps.
+    StateSnapshot last_good;
+    constexpr long kSnapshotSpacing = 100;
+    auto keepGoodState = [&](long n) {
+        if (last_good.step < 0 || n - last_good.step >= kSnapshotSpacing) {
+            last_good.take(model, n, ctx.time);
+        }
+    };
     record(first - 1, ctx.time);
+    keepGoodState(first - 1);
     const long map_every = scene.output.maps > 0 ? std::max(1L, steps / scene.output.maps) : 0;
     if (map_every > 0 && first == 1) {
         maps.write(model, 0, 0.0);
@@ -386,7 +397,17 @@ int runScene(const RunOptions& options) {
                         CheckpointMeta{n, ctx.time, dt, scene.name, scene_sha256, kVersion,
                                        model.indenter ? model.indenter->state() : std::vector<double>{}});
     };
-    const long watchdog_every = std::min(scene.output.every, 50L);
+    auto watch = [&](long n) {
+        try {
+            checkStability(ctx.kinetic, dt, critical.dt, min_radius, n, ctx.time);
+        } catch (const NumericalInstability& e) {
+            series.flush();
+            throw NumericalInstability(
+                e.what() + reportInstability(out, CheckpointMeta{0, 0.0, dt, scene.name, scene_sha256, kVersion, {}},
+                                             critical.dt, model, last_good, e.particle),
+                e.particle, e.step);
+        }
+    };
     ProgressReporter progress(log, verbose && ::isatty(STDOUT_FILENO), steps, verbose ? 10.0 : 1e30);
     progress.setTotalIsBound(model.indenter.has_value()); // the stages end the run, time.duration bounds it
     g_stop_signal = 0;
@@ -405,19 +426,17 @@ int runScene(const RunOptions& options) {
         ctx.time = static_cast<double>(n) * dt;
         step.advance(ctx);
         last_step = n;
+        watch(n);
         if (model.indenter && model.indenter->done()) {
-            checkStability(kineticEnergy(model.particles.view()), dt, critical.dt, min_radius, n, ctx.time);
             record(n, ctx.time);
             if (map_every > 0) {
                 maps.write(model, n, ctx.time);
             }
             break;
         }
-        if (n % watchdog_every == 0 || n == steps) {
-            checkStability(kineticEnergy(model.particles.view()), dt, critical.dt, min_radius, n, ctx.time);
-        }
         if (n % scene.output.every == 0 || n == steps) {
             record(n, ctx.time);
+            keepGoodState(n);
             if (verbose) {
                 progress.update(n, probeText());
             }

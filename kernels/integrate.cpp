@@ -53,29 +53,50 @@ void cundallLocalDamping(const ParticleView& p, double alpha) {
     });
 }
 
+namespace {
+/// Adds particle i's kinetic energy and the watchdog's measures to `acc` (one element of the reductions).
+inline void accumulateKinetic(const ParticleView& p, std::size_t i, KineticEnergy& acc) {
+    const Vec3 v = load3(p.velocity, i);
+    const Vec3 w = load3(p.angular_velocity, i);
+    const double v2 = v.squaredNorm();
+    const double w2 = w.squaredNorm();
+    acc.translational += 0.5 * p.mass[i] * v2;
+    acc.rotational += 0.5 * p.inertia[i] * w2;
+    const double s = std::sqrt(v2);
+    if (s > acc.max_speed) {
+        acc.max_speed = s;
+        acc.fastest = static_cast<long>(i);
+    }
+    const double spin = std::sqrt(w2);
+    if (spin > acc.max_spin) {
+        acc.max_spin = spin;
+        acc.fastest_spin = static_cast<long>(i);
+    }
+    const bool finite = std::isfinite(v2) && std::isfinite(w2) && std::isfinite(load3(p.position, i).squaredNorm());
+    if (!finite && acc.first_nonfinite < 0) {
+        acc.first_nonfinite = static_cast<long>(i);
+    }
+    acc.finite = acc.finite && finite;
+}
+} // namespace
+
 KineticEnergy kineticEnergy(const ParticleView& p) {
-    return parallelReduce("integrate.kinetic_energy", p.n, KineticEnergy{}, [&](std::size_t i, KineticEnergy& acc) {
-        const Vec3 v = load3(p.velocity, i);
-        const Vec3 w = load3(p.angular_velocity, i);
-        const double v2 = v.squaredNorm();
-        acc.translational += 0.5 * p.mass[i] * v2;
-        acc.rotational += 0.5 * p.inertia[i] * w.squaredNorm();
-        const double s = std::sqrt(v2);
-        if (s > acc.max_speed) {
-            acc.max_speed = s;
-            acc.fastest = static_cast<long>(i);
+    return parallelReduce("integrate.kinetic_energy", p.n, KineticEnergy{},
+                          [&](std::size_t i, KineticEnergy& acc) { accumulateKinetic(p, i, acc); });
+}
+
+KineticEnergy halfKickAndMeasure(const ParticleView& p, double dt) {
+    const double h = 0.5 * dt;
+    return parallelReduce("integrate.kick", p.n, KineticEnergy{}, [&](std::size_t i, KineticEnergy& acc) {
+        if (!(p.flags[i] & kKinematic)) {
+            const double a = h / p.mass[i];
+            const double b = h / p.inertia[i];
+            for (int c = 0; c < 3; ++c) {
+                p.velocity[3 * i + c] += a * p.force[3 * i + c];
+                p.angular_velocity[3 * i + c] += b * p.torque[3 * i + c];
+            }
         }
-        const double spin = w.norm();
-        if (spin > acc.max_spin) {
-            acc.max_spin = spin;
-            acc.fastest_spin = static_cast<long>(i);
-        }
-        const bool finite = std::isfinite(v2) && std::isfinite(w.squaredNorm()) &&
-                            std::isfinite(load3(p.position, i).squaredNorm());
-        if (!finite && acc.first_nonfinite < 0) {
-            acc.first_nonfinite = static_cast<long>(i);
-        }
-        acc.finite = acc.finite && finite;
+        accumulateKinetic(p, i, acc);
     });
 }
 

@@ -50,6 +50,11 @@ struct KineticEnergy {
 };
 KineticEnergy kineticEnergy(const ParticleView& p);
 
+/// halfKick fused with kineticEnergy of the kicked state: one pass, the same velocities bit for bit, and the
+/// watchdog's per-step measures (largest speed and spin, first non-finite particle) at the cost of a
+/// deterministic reduction. The composed step ends with it.
+KineticEnergy halfKickAndMeasure(const ParticleView& p, double dt);
+
 /// Total linear momentum Σ m v and angular momentum about the origin Σ (x × m v + J ω).
 struct Momentum {
     Vec3 linear = Vec3::Zero();

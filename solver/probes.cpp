@@ -33,20 +33,25 @@ void checkStability(const KineticEnergy& kinetic, double dt, double dt_critical,
     if (finite && kinetic.max_speed * dt <= 0.1 * min_radius && kinetic.max_spin * dt <= 0.1) {
         return;
     }
+    long culprit = -1;
     std::ostringstream msg;
     msg << "numerical instability detected at step " << step << " (t = " << time << " ns): ";
     if (!finite) {
+        culprit = kinetic.first_nonfinite;
         msg << "non-finite positions or velocities (first: particle " << kinetic.first_nonfinite << ")";
     } else if (kinetic.max_speed * dt > 0.1 * min_radius) {
+        culprit = kinetic.fastest;
         msg << "particle " << kinetic.fastest << " moves " << kinetic.max_speed * dt << " um in one step, more "
             << "than 0.1 x the smallest radius (" << min_radius << " um)";
     } else {
+        culprit = kinetic.fastest_spin;
         msg << "particle " << kinetic.fastest_spin << " turns " << kinetic.max_spin * dt << " rad in one step, "
             << "more than 0.1 rad (a run-away rotation)";
     }
-    msg << ". The time step is " << dt << " ns = " << dt / dt_critical
-        << " x the critical estimate; lower time.safety_ratio (default 0.1) or check the boundary conditions.";
-    throw NumericalInstability(msg.str());
+    // The advice depends on the cause (solver/watchdog.hpp: time step, contact stiffness or input), which the
+    // driver diagnoses from the model and appends.
+    msg << ". The time step is " << dt << " ns = " << dt / dt_critical << " x the critical estimate.";
+    throw NumericalInstability(msg.str(), culprit, step);
 }
 
 } // namespace vitrum

@@ -22,13 +22,17 @@ ProbeValues measureProbes(Model& model, const std::vector<std::size_t>& probed_s
 
 /// Thrown when the watchdog sees a blow-up; the CLI reports it with exit code 1.
 struct NumericalInstability : RuntimeFailure {
-    using RuntimeFailure::RuntimeFailure;
+    NumericalInstability(const std::string& what, long particle_ = -1, long step_ = -1)
+        : RuntimeFailure(what), particle(particle_), step(step_) {}
+    long particle = -1; ///< the particle the check names (the fastest, fastest-spinning or first non-finite)
+    long step = -1;     ///< the step at which the check failed
 };
 
 /// Stability watchdog: a NaN/Inf anywhere, or a particle moving more than a tenth of the smallest radius in
 /// one step (|v|max Δt > 0.1 R_min, far beyond any physical rate in quasi-static indentation, and reached
-/// within a few steps once the explicit scheme diverges), throws NumericalInstability with the step, time
-/// and advice.
+/// within a few steps once the explicit scheme diverges), or turning by more than 0.1 rad, throws
+/// NumericalInstability with the step, time, the particle and the time step; solver/watchdog.hpp diagnoses
+/// the cause and the driver adds it, the advice and the files it wrote.
 void checkStability(const KineticEnergy& kinetic, double dt, double dt_critical, double min_radius, long step,
                     double time);
 

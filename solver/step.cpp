@@ -164,7 +164,8 @@ Step composeStep(const Scene& scene, Model& model) {
         step.add("damping.cundall", true,
                  [alpha](StepContext& c) { cundallLocalDamping(c.model.particles.view(), alpha); });
     }
-    step.add("integrate.kick", false, [](StepContext& c) { halfKick(c.model.particles.view(), c.dt); });
+    step.add("integrate.kick", false,
+             [](StepContext& c) { c.kinetic = halfKickAndMeasure(c.model.particles.view(), c.dt); });
     return step;
 }
 

@@ -11,13 +11,14 @@
 //   bonds.gather           per-particle sums over the CSR incidence                  (elasticity)
 //   loads.pressure         hydrostatic pressure on a set's hull                     (if any [[load]])
 //   damping.cundall        local non-viscous damping of F and T                      (damping: cundall)
-//   integrate.kick         v,ω += Δt/2·F/m, T/J                                      (always)
+//   integrate.kick         v,ω += Δt/2·F/m, T/J, fused with the watchdog's measures  (always)
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "kernels/integrate.hpp"
 #include "solver/model.hpp"
 
 namespace vitrum {
@@ -27,6 +28,9 @@ struct StepContext {
     Model& model;
     double dt = 0.0;
     double time = 0.0;
+    /// Set by the final kick (halfKickAndMeasure): kinetic energy, largest speed and spin and the first
+    /// non-finite particle of the state at the end of the step; the driver's watchdog reads it every step.
+    KineticEnergy kinetic{};
 };
 
 struct Phase {

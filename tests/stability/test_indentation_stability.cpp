@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "io/checkpoint.hpp"
+#include "kernels/views.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {
@@ -46,6 +48,45 @@ TEST(IndentationStability, ToolAtAHundredTimesTheExampleSpeedStaysFiniteAndBound
     EXPECT_GE(peak_force, 0.004);
     // A fast tool cannot be stopped within 1 % (the sample rings); it must still not run away.
     EXPECT_LT(m["max_force_N"].get<double>(), 0.004 * 2.0);
+}
+
+TEST(IndentationStability, FragmentsBrokenOffByTheToolHitItAndStayBoundedAndInside) {
+    // Fracture under a fast tool: with a hydrostatic strength of 20 MPa (the paper's is 67) the tool at
+    // 100 m/s breaks particles free under its tip; the freed fragments are then pushed, squeezed and struck
+    // by the tool (contacts with the tool and between fragments). The run must finish every stage, stay
+    // finite, the kinetic energy must stay below the work the tool did (F_max × depth_max: nothing else puts
+    // energy in), and no fragment may escape: every final centre within twice the sample's radius.
+    const fs::path dir = freshTempDir("indent-fragments");
+    const std::string quickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+    const std::string args = " --quiet --threads 1 --set sample.particles=1500 --set sample.radius=3.4"
+                             " --set 'effects.list=[\"elasticity\", \"densification\", \"indenter\", \"damping\","
+                             " \"fracture\"]' --set fracture.hydrostatic_strength=0.02"
+                             " --set 'stage[0].until_force=0.004' --set 'stage[0].speed=0.1'"
+                             " --set 'stage[1].duration=2.0' --set 'stage[2].speed=0.1'"
+                             " --set 'stage[3].duration=5.0' --set time.duration=200.0 --set output.every=5";
+    ASSERT_EQ(runVitrum("run " + quickstart + " --out " + dir.string() + args, dir / "log.txt"), 0)
+        << readText(dir / "log.txt");
+    const nlohmann::json s = testing::readSummary(dir);
+    const nlohmann::json& m = s["measurements"];
+    EXPECT_TRUE(m["stages_complete"].get<bool>());
+    const double work = 1e3 * m["max_force_N"].get<double>() * m["max_depth_um"].get<double>(); // nJ
+    const auto c = testing::readCsvColumns(dir / "series.csv",
+                                           {"kinetic_energy_nJ", "released_particles", "tool_contacts"});
+    ASSERT_FALSE(c[0].empty());
+    bool fragments_touched = false;
+    for (std::size_t k = 0; k < c[0].size(); ++k) {
+        ASSERT_TRUE(std::isfinite(c[0][k])) << "row " << k;
+        EXPECT_LE(c[0][k], work) << "row " << k;
+        fragments_touched = fragments_touched || (c[1][k] > 0.0 && c[2][k] > 0.0);
+    }
+    EXPECT_GT(m["released_particles"].get<long>(), 0);
+    EXPECT_TRUE(fragments_touched); // fragments existed while the tool was in contact
+    Particles p;
+    Bonds b;
+    readCheckpoint((dir / "state.h5").string(), p, b);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        ASSERT_LT(load3(p.position.data(), i).norm(), 2.0 * 3.4) << "particle " << i << " escaped";
+    }
 }
 
 } // namespace
