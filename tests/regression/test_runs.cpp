@@ -169,5 +169,36 @@ TEST(Restart, SigtermSavesACheckpointThatRestartsToTheSameState) {
     EXPECT_EQ(readSummary(full)["state_sha256"], readSummary(cut)["state_sha256"]);
 }
 
+TEST(Restart, SigkillDuringACheckpointWriteLeavesTheLastCompleteCheckpoint) {
+    // A checkpoint every step (output.checkpoints ≥ steps), so most of the run is spent writing one, and the
+    // process is killed with SIGKILL (no handler can run) at two moments. Whatever was being written, state.h5
+    // must be a complete checkpoint (write to state.h5.tmp, fsync, rename) from which the run finishes with
+    // the uninterrupted run's final state.
+    const std::string every = kSmall + " --set output.checkpoints=100000";
+    const fs::path full = freshTempDir("sigkill-full");
+    ASSERT_EQ(runVitrum("run " + kCompression + " --out " + full.string() + every, full / "log.txt"), 0)
+        << readText(full / "log.txt");
+    int survived = 0;
+    for (const char* when : {"0.6", "1.5"}) {
+        const fs::path cut = freshTempDir("sigkill-cut");
+        const std::string cmd = "timeout -s KILL " + std::string(when) + " " + std::string(VITRUM_BINARY) + " run " +
+                                kCompression + " --out " + cut.string() + every + " > " + (cut / "log1.txt").string() +
+                                " 2>&1";
+        const int status = std::system(cmd.c_str());
+        ASSERT_TRUE(WIFEXITED(status));
+        if (WEXITSTATUS(status) == 0) continue; // finished before the kill: nothing to check at this moment
+        ASSERT_EQ(WEXITSTATUS(status), 128 + 9) << readText(cut / "log1.txt");
+        if (!fs::exists(cut / "state.h5")) continue; // killed before the first checkpoint completed
+        ++survived;
+        ASSERT_EQ(runVitrum("run " + kCompression + " --out " + cut.string() + every + " --restart " +
+                                (cut / "state.h5").string(),
+                            cut / "log2.txt"),
+                  0)
+            << "killed at " << when << " s: " << readText(cut / "log2.txt");
+        EXPECT_EQ(readSummary(full)["state_sha256"], readSummary(cut)["state_sha256"]) << "killed at " << when << " s";
+    }
+    EXPECT_GT(survived, 0) << "no kill landed after a checkpoint: the test checked nothing";
+}
+
 } // namespace
 } // namespace vitrum
