@@ -9,6 +9,7 @@
 
 #include "io/atomic_file.hpp"
 #include "kernels/strain.hpp"
+#include "solver/cracks.hpp"
 #include "solver/imprint.hpp"
 #include "solver/sample.hpp"
 
@@ -123,6 +124,42 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
         m["saturated_bonds"] = saturated;
         m["densified_zone_depth_um"] = zone_depth;
         m["densified_zone_radius_um"] = zone_radius;
+    }
+
+    // Crack pattern (effect fracture): the released particles classified in the reference configuration
+    // (solver/cracks.hpp), with a = half the imprint diagonal (3.5 h_max, the Vickers ratio d = 7 h, when the
+    // print has no diagonal) and a surface band of 3 R̄; cracks.csv holds them for the Fig 15 views.
+    if (p.fractureEnabled()) {
+        std::vector<double> centres;
+        std::ostringstream cracks;
+        cracks << "x0_um,y0_um,z0_um,x_um,y_um,z_um,release_step\n" << std::setprecision(7);
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!p.released[i]) continue;
+            for (int c = 0; c < 3; ++c) centres.push_back(p.initial_position[3 * i + c]);
+            cracks << p.initial_position[3 * i] << "," << p.initial_position[3 * i + 1] << ","
+                   << p.initial_position[3 * i + 2] << "," << p.position[3 * i] << "," << p.position[3 * i + 1] << ","
+                   << p.position[3 * i + 2] << "," << p.release_step[i] << "\n";
+        }
+        writeFileAtomically((out / "cracks.csv").string(), cracks.str());
+        CrackParams cp;
+        cp.axis = params.axis;
+        cp.surface = ind.surface_level;
+        cp.contact_radius = im.diagonal > 0.0 ? 0.5 * im.diagonal : 3.5 * ind.max_depth;
+        cp.band = 3.0 * mean_radius;
+        const CrackPattern cr = classifyCracks(centres.size() / 3, centres.data(), cp);
+        m["cone_crack"] = cr.cone;
+        m["cone_radius_um"] = cr.cone_radius;
+        m["cone_angle_deg"] = cr.cone_angle;
+        m["ring_coverage"] = cr.ring_coverage;
+        m["radial_crack_count"] = cr.radial;
+        m["median_crack"] = cr.median;
+        m["lateral_crack"] = cr.lateral;
+        m["lateral_crack_depth_um"] = cr.lateral_depth;
+        m["crack_classification"] =
+            "released particles (initial centres) about the load axis; contact radius a = " +
+            std::to_string(cp.contact_radius) + " um, surface band " + std::to_string(cp.band) +
+            " um; cone = ring outside a covering >= 75 % of 24 sectors, cone_radius = median r of the band, "
+            "cone_angle = flank to free surface (0: ring only); solver/cracks.hpp";
     }
 
     // Plot data: the imprint on its grid, and a slab through the axis (y ≈ axis y) for the cut-away view.
