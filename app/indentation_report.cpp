@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "io/atomic_file.hpp"
+#include "kernels/views.hpp"
 #include "kernels/strain.hpp"
 #include "solver/cracks.hpp"
 #include "solver/imprint.hpp"
@@ -38,6 +39,110 @@ const Table4Row kTable4_05N[] = {{"paper DEM", 14.534, 1.174, 13.360, 0.397, 9.3
                                  {"paper CNEM-DEM", 13.628, 0.920, 12.708, 0.409, 9.957},
                                  {"exp. Ji [8]", 9.971, 1.138, 8.805, 0.908, 10.371}};
 } // namespace
+
+CrackParams crackParams(const Model& model, double mean_radius, double contact_radius) {
+    CrackParams cp;
+    cp.axis = model.indenter->tip; // the load axis passes through the tip (x, y)
+    cp.surface = model.indenter->surface_level;
+    cp.contact_radius = contact_radius;
+    cp.band = 3.0 * mean_radius;
+    return cp;
+}
+
+CrackPattern classifyReleased(const Model& model, const CrackParams& params) {
+    const Particles& p = model.particles;
+    std::vector<double> centres;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.released[i]) {
+            for (int c = 0; c < 3; ++c) centres.push_back(p.initial_position[3 * i + c]);
+        }
+    }
+    return classifyCracks(centres.size() / 3, centres.data(), params);
+}
+
+void writeCracksCsv(const fs::path& path, const Particles& p) {
+    std::ostringstream cracks;
+    cracks << "x0_um,y0_um,z0_um,x_um,y_um,z_um,release_step\n" << std::setprecision(7);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (!p.released[i]) continue;
+        cracks << p.initial_position[3 * i] << "," << p.initial_position[3 * i + 1] << ","
+               << p.initial_position[3 * i + 2] << "," << p.position[3 * i] << "," << p.position[3 * i + 1] << ","
+               << p.position[3 * i + 2] << "," << p.release_step[i] << "\n";
+    }
+    writeFileAtomically(path.string(), cracks.str());
+}
+
+nlohmann::ordered_json crackJson(const CrackPattern& cr, const CrackParams& cp) {
+    nlohmann::ordered_json m;
+    m["cone_crack"] = cr.cone;
+    m["cone_radius_um"] = cr.cone_radius;
+    m["cone_angle_deg"] = cr.cone_angle;
+    m["ring_coverage"] = cr.ring_coverage;
+    m["radial_crack_count"] = cr.radial;
+    m["median_crack"] = cr.median;
+    m["lateral_crack"] = cr.lateral;
+    m["lateral_crack_depth_um"] = cr.lateral_depth;
+    m["crack_classification"] =
+        "released particles (initial centres) about the load axis; contact radius a = " +
+        std::to_string(cp.contact_radius) + " um, surface band " + std::to_string(cp.band) +
+        " um; cone = a thin ring outside a covering >= 75 % of 24 sectors, cone_radius = median r of the band, "
+        "cone_angle = flank to free surface (0: ring only); solver/cracks.hpp";
+    return m;
+}
+
+CrackSnapshots::CrackSnapshots(const Model& model, double mean_radius, fs::path out)
+    : mean_radius_(mean_radius), out_(std::move(out)) {
+    const std::vector<StageParams>& st = model.indenter->stages;
+    for (std::size_t k = 0; k < st.size(); ++k) {
+        if (st[k].kind == StageKind::Load) {
+            first_load_ = static_cast<int>(k);
+            break;
+        }
+    }
+}
+
+std::string CrackSnapshots::observe(const Model& model, long step, double time) {
+    const Particles& p = model.particles;
+    const Indenter& ind = *model.indenter;
+    auto snapshot = [&](const std::string& tag, const CrackPattern& cr, const CrackParams& cp) {
+        writeCracksCsv(out_ / ("cracks_" + tag + ".csv"), p);
+        nlohmann::ordered_json j = crackJson(cr, cp);
+        j["step"] = step;
+        j["time_ns"] = time;
+        j["tool_depth_um"] = ind.depth();
+        j["tool_force_N"] = ind.force() * 1e-3;
+        j["released_particles"] = cr.released;
+        json_[tag] = j;
+        return tag;
+    };
+    // The contact radius now: the farthest particle from the axis in contact with the tool (tool-agnostic).
+    double a = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (load3(ind.contact_force.data(), i).squaredNorm() > 0.0) {
+            a = std::max(a, std::hypot(p.position[3 * i] - ind.tip.x(), p.position[3 * i + 1] - ind.tip.y()));
+        }
+    }
+    if (!full_load_taken_ && first_load_ >= 0 && ind.stage > first_load_) {
+        full_load_taken_ = true;
+        const CrackParams cp = crackParams(model, mean_radius_, std::max(a, last_contact_radius_));
+        return snapshot("full_load", classifyReleased(model, cp), cp);
+    }
+    last_contact_radius_ = std::max(last_contact_radius_, a);
+    if (!onset_taken_ && a > 0.0 && ind.stage == first_load_) { // the onset is a loading event
+        long released = 0;
+        for (std::uint8_t r : p.released) released += r;
+        if (released > released_seen_) {
+            released_seen_ = released;
+            const CrackParams cp = crackParams(model, mean_radius_, a);
+            const CrackPattern cr = classifyReleased(model, cp);
+            if (cr.cone) {
+                onset_taken_ = true;
+                return snapshot("onset", cr, cp);
+            }
+        }
+    }
+    return {};
+}
 
 void measureIndentation(const Scene& scene, const Model& model, double mean_radius, const fs::path& out,
                         nlohmann::ordered_json& m) {
@@ -128,38 +233,13 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
 
     // Crack pattern (effect fracture): the released particles classified in the reference configuration
     // (solver/cracks.hpp), with a = half the imprint diagonal (3.5 h_max, the Vickers ratio d = 7 h, when the
-    // print has no diagonal) and a surface band of 3 R̄; cracks.csv holds them for the Fig 15 views.
+    // print has no diagonal); cracks.csv holds them for the Fig 15 views.
     if (p.fractureEnabled()) {
-        std::vector<double> centres;
-        std::ostringstream cracks;
-        cracks << "x0_um,y0_um,z0_um,x_um,y_um,z_um,release_step\n" << std::setprecision(7);
-        for (std::size_t i = 0; i < n; ++i) {
-            if (!p.released[i]) continue;
-            for (int c = 0; c < 3; ++c) centres.push_back(p.initial_position[3 * i + c]);
-            cracks << p.initial_position[3 * i] << "," << p.initial_position[3 * i + 1] << ","
-                   << p.initial_position[3 * i + 2] << "," << p.position[3 * i] << "," << p.position[3 * i + 1] << ","
-                   << p.position[3 * i + 2] << "," << p.release_step[i] << "\n";
-        }
-        writeFileAtomically((out / "cracks.csv").string(), cracks.str());
-        CrackParams cp;
-        cp.axis = params.axis;
-        cp.surface = ind.surface_level;
-        cp.contact_radius = im.diagonal > 0.0 ? 0.5 * im.diagonal : 3.5 * ind.max_depth;
-        cp.band = 3.0 * mean_radius;
-        const CrackPattern cr = classifyCracks(centres.size() / 3, centres.data(), cp);
-        m["cone_crack"] = cr.cone;
-        m["cone_radius_um"] = cr.cone_radius;
-        m["cone_angle_deg"] = cr.cone_angle;
-        m["ring_coverage"] = cr.ring_coverage;
-        m["radial_crack_count"] = cr.radial;
-        m["median_crack"] = cr.median;
-        m["lateral_crack"] = cr.lateral;
-        m["lateral_crack_depth_um"] = cr.lateral_depth;
-        m["crack_classification"] =
-            "released particles (initial centres) about the load axis; contact radius a = " +
-            std::to_string(cp.contact_radius) + " um, surface band " + std::to_string(cp.band) +
-            " um; cone = ring outside a covering >= 75 % of 24 sectors, cone_radius = median r of the band, "
-            "cone_angle = flank to free surface (0: ring only); solver/cracks.hpp";
+        const double a = im.diagonal > 0.0 ? 0.5 * im.diagonal : 3.5 * ind.max_depth;
+        const CrackPattern cr = classifyReleased(model, crackParams(model, mean_radius, a));
+        writeCracksCsv(out / "cracks.csv", p);
+        const nlohmann::ordered_json j = crackJson(cr, crackParams(model, mean_radius, a));
+        for (auto it = j.begin(); it != j.end(); ++it) m[it.key()] = it.value();
     }
 
     // Plot data: the imprint on its grid, and a slab through the axis (y ≈ axis y) for the cut-away view.
@@ -239,7 +319,8 @@ void plotIndentation(std::ostream& log, const fs::path& out, bool verbose) {
         log << "vitrum: plots not made (" << script.string() << " failed; see " << (out / "plots.log").string()
             << ")\n";
     } else if (verbose) {
-        log << "  plots      " << (out / "plots").string() << "/{force_depth,imprint_top,densified_cutaway}.png\n";
+        log << "  plots      " << (out / "plots").string() << "/{force_depth,imprint_top,densified_cutaway"
+            << (fs::exists(out / "cracks.csv") ? ",cracks" : "") << "}.png\n";
     }
 }
 

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "solver/cracks.hpp"
 #include "solver/model.hpp"
 
 namespace vitrum {
@@ -15,6 +16,38 @@ namespace vitrum {
 /// Fills `m` with the DESIGN.md §6 indentation keys and writes imprint.csv and cutaway.csv into `out`.
 void measureIndentation(const Scene& scene, const Model& model, double mean_radius, const std::filesystem::path& out,
                         nlohmann::ordered_json& m);
+
+/// The crack classification's parameters for this run: the load axis through the tip, the free surface,
+/// contact radius `contact_radius` (µm) and a surface band of 3 R̄.
+CrackParams crackParams(const Model& model, double mean_radius, double contact_radius);
+/// The crack pattern of the released particles (initial centres), solver/cracks.hpp.
+CrackPattern classifyReleased(const Model& model, const CrackParams& params);
+/// The released particles (initial and current centres, release step) as CSV, written atomically.
+void writeCracksCsv(const std::filesystem::path& path, const Particles& particles);
+/// The summary keys of a crack pattern (cone_radius_um, cone_angle_deg, radial_crack_count, ...).
+nlohmann::ordered_json crackJson(const CrackPattern& pattern, const CrackParams& params);
+
+/// Crack maps at the two instants of the paper's 30 N study (issue 9; effects fracture and indenter): the
+/// onset, the first recorded step at which the released particles form a cone/ring crack (Fig 15: "at the
+/// beginning of fracture"), and full load, the first recorded step after the first load stage ended. At each:
+/// cracks_<tag>.csv and the classification with step, time, depth and force (json()); the caller writes a
+/// particle map. The contact radius is measured: the farthest tool-contact particle from the axis.
+class CrackSnapshots {
+public:
+    CrackSnapshots(const Model& model, double mean_radius, std::filesystem::path out);
+    /// Call at every recorded step; returns the tag of the snapshot taken ("onset", "full_load") or "".
+    std::string observe(const Model& model, long step, double time);
+    const nlohmann::ordered_json& json() const { return json_; }
+
+private:
+    double mean_radius_;
+    std::filesystem::path out_;
+    int first_load_ = -1;
+    bool onset_taken_ = false, full_load_taken_ = false;
+    long released_seen_ = 0;
+    double last_contact_radius_ = 0.0;
+    nlohmann::ordered_json json_ = nlohmann::ordered_json::object();
+};
 
 /// The metrics beside the paper's Table 4 rows for the nearest load (0.1 N or 0.5 N).
 void printImprintTable(std::ostream& log, const Scene& scene, const nlohmann::ordered_json& m);

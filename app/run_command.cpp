@@ -294,6 +294,11 @@ int runScene(const RunOptions& options) {
     std::vector<UniaxialSample> uniaxial;
     SeriesWriter series((out / "series.csv").string(), columns);
     MapWriter maps(out, scene, model);
+    // Effects fracture + indenter: crack maps at the onset of cone cracking and at full load (issue 9).
+    std::optional<CrackSnapshots> cracks;
+    if (model.indenter && model.particles.fractureEnabled()) {
+        cracks.emplace(model, mean_radius, out);
+    }
     ProbeValues last;
     auto record = [&](long n, double time) {
         last = measureProbes(model, probed, time);
@@ -344,6 +349,14 @@ int runScene(const RunOptions& options) {
 
     // 5. The time loop (from a checkpoint when restarting: its forces are those the next kick needs).
     StepContext ctx{model, dt, 0.0};
+    auto observeCracks = [&](long n) {
+        if (!cracks) return;
+        const std::string tag = cracks->observe(model, n, ctx.time);
+        if (!tag.empty()) {
+            maps.write(model, n, ctx.time);
+            if (verbose) log << "\n  cracks     " << tag << " snapshot at step " << n << ": cracks_" << tag << ".csv\n";
+        }
+    };
     long first = 1;
     if (!options.restart.empty()) {
         const CheckpointMeta meta = readCheckpoint(options.restart, model.particles, model.bonds);
@@ -437,6 +450,7 @@ int runScene(const RunOptions& options) {
         if (n % scene.output.every == 0 || n == steps) {
             record(n, ctx.time);
             keepGoodState(n);
+            observeCracks(n);
             if (verbose) {
                 progress.update(n, probeText());
             }
@@ -527,6 +541,9 @@ int runScene(const RunOptions& options) {
 
     if (model.indenter) {
         measureIndentation(scene, model, mean_radius, out, measurements);
+        if (cracks) {
+            measurements["crack_snapshots"] = cracks->json();
+        }
         measurements["stages_complete"] = stages_complete;
     }
 

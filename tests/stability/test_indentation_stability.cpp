@@ -81,6 +81,17 @@ TEST(IndentationStability, FragmentsBrokenOffByTheToolHitItAndStayBoundedAndInsi
     }
     EXPECT_GT(m["released_particles"].get<long>(), 0);
     EXPECT_TRUE(fragments_touched); // fragments existed while the tool was in contact
+    // The crack outputs (issue 9): the pattern keys, the released particles, and the full-load snapshot taken
+    // at the first record after the load stage, when the tool force had reached its 4 mN target (≤ 1 % over).
+    for (const char* key : {"cone_crack", "cone_radius_um", "cone_angle_deg", "radial_crack_count", "median_crack",
+                            "lateral_crack"}) {
+        EXPECT_TRUE(m.contains(key)) << key;
+    }
+    EXPECT_TRUE(fs::exists(dir / "cracks.csv"));
+    ASSERT_TRUE(m.contains("crack_snapshots"));
+    ASSERT_TRUE(m["crack_snapshots"].contains("full_load")) << m["crack_snapshots"].dump();
+    EXPECT_TRUE(fs::exists(dir / "cracks_full_load.csv"));
+    EXPECT_GE(m["crack_snapshots"]["full_load"]["tool_force_N"].get<double>(), 0.004 * 0.95);
     Particles p;
     Bonds b;
     readCheckpoint((dir / "state.h5").string(), p, b);
