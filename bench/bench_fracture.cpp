@@ -11,6 +11,7 @@
 
 #include "kernels/bond_kernels.hpp"
 #include "kernels/contact.hpp"
+#include "kernels/fracture.hpp"
 #include "kernels/virial_stress.hpp"
 #include "solver/fracture.hpp"
 #include "solver/model.hpp"
@@ -104,8 +105,31 @@ void BM_ContactListBuild(benchmark::State& state) {
     state.counters["pairs"] = static_cast<double>(m.contacts.size());
 }
 
+/// The release criterion alone (kernels/fracture.hpp) in its steady state: every particle judges its stress,
+/// none exceeds the (unreachable) strength, so no bond breaks and the recount pass is skipped — the cost a run
+/// pays every `check_every` steps, beside BM_VirialStress.
+void BM_FractureRelease(benchmark::State& state) {
+    FractureModel& fm = fractureModelFor(state.range(0));
+    vitrum::Model& m = fm.model;
+    const vitrum::ParticleVolume volume{0.74};
+    vitrum::computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), m.contacts.incidenceView(),
+                                m.contacts.view(), {}, volume, m.particles.stress.data());
+    const vitrum::HydrostaticRelease law{1e9};
+    const vitrum::Bonds& b = m.bonds;
+    const vitrum::BondBreakView bonds{b.size(), b.i.data(), b.j.data(), m.bonds.broken.data()};
+    long long released = 0;
+    for (auto _ : state) {
+        released += vitrum::applyHydrostaticRelease(law, m.particles.damageView(), m.incidence.view(), bonds, 1).released;
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(state.iterations() * static_cast<long long>(m.particles.size()));
+    state.counters["particles"] = static_cast<double>(m.particles.size());
+    state.counters["released"] = static_cast<double>(released);
+}
+
 } // namespace
 
-BENCHMARK(BM_VirialStress)->RangeMultiplier(10)->Range(1000, 100000)->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK(BM_ContactLoads)->RangeMultiplier(10)->Range(1000, 100000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_VirialStress)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_ContactLoads)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_ContactListBuild)->RangeMultiplier(10)->Range(1000, 100000)->Unit(benchmark::kMicrosecond)->UseRealTime();
+BENCHMARK(BM_FractureRelease)->RangeMultiplier(10)->Range(1000, 1000000)->Unit(benchmark::kMicrosecond)->UseRealTime();

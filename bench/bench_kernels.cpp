@@ -20,6 +20,7 @@
 //                      fetched from memory about once per sweep and amortised over its ~6 bonds.
 // The per-item constants are spelt out next to each benchmark below.
 #include <benchmark/benchmark.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -38,11 +39,14 @@
 #include "solver/model.hpp"
 #include "solver/scene.hpp"
 #include "solver/step.hpp"
+#include "bench_model.hpp"
 
 namespace {
 
 using vitrum::Vec3;
 using vitrum::Quat;
+using vitrum_bench::BenchModel;
+using vitrum_bench::modelFor;
 
 // ---- byte models (per bond or per particle) ------------------------------------------------------------
 
@@ -58,6 +62,10 @@ constexpr double kViscousExtraGatherBytes = 2 * (24 + 24 + 8 + 8);
 // particle, over ~6 bonds per particle (the benchmark uses the measured bonds/particle ratio instead of 6).
 constexpr double kBeamParticleBytes = 56;
 constexpr double kViscousParticleBytes = 56 + 64;
+// Densification (elastic branch, property evolution on), per bond: slip and reference strain read and written
+// (2×8 + 2×8 = 32 B); young, shear, section radius are the ones the beam law reads anyway (the densification
+// view aliases them), so they add nothing.
+constexpr double kDensifyBytes = 32;
 
 // CSR gather, per bond: two incidence entries (2×4), the bond's force read twice (once per end, 2×24),
 // torque_i and torque_j once each (2×24) = 104 B touched. Per particle: offset (4) + written force and
@@ -73,70 +81,6 @@ constexpr double kGatherPerParticle = 4 + 48;
 constexpr double kKickBytes = 4 + 16 + 48 + 96;
 constexpr double kDriftBytes = 72 + 32 + 56;
 constexpr double kIntegrateBytes = 2 * kKickBytes + kDriftBytes;
-
-// ---- model cache ---------------------------------------------------------------------------------------
-
-struct BenchModel {
-    vitrum::Scene scene;
-    vitrum::Model model;
-    double dt = 0.0; // 0.1 × critical time step, ns
-    double bonds_per_particle() const {
-        return static_cast<double>(model.bonds.size()) / static_cast<double>(model.particles.size());
-    }
-};
-
-/// FCC lattice of about n particles in a 10 µm cube with the default glass micro-parameters, perturbed
-/// (see the file header). Deterministic: fixed seed.
-std::unique_ptr<BenchModel> makeModel(long n) {
-    auto bm = std::make_unique<BenchModel>();
-    bm->scene.name = "bench";
-    bm->scene.sample.lattice = "fcc";
-    bm->scene.sample.shape = "box";
-    bm->scene.sample.size = Vec3(10, 10, 10);
-    bm->scene.sample.particles = n;
-    bm->model = vitrum::buildModel(bm->scene, 1.0);
-
-    vitrum::Particles& p = bm->model.particles;
-    const double radius = p.radius[0];
-    std::mt19937_64 rng(0x5eed + static_cast<std::uint64_t>(n));
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            p.position[3 * i + c] += 1e-3 * radius * u(rng);
-        }
-        const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
-        const Quat tilt(Eigen::AngleAxisd(1e-3 * u(rng), axis));
-        vitrum::storeQuat(p.orientation.data(), i, (tilt * vitrum::loadQuat(p.orientation.data(), i)).normalized());
-    }
-
-    // Time step first (it depends on stiffness and mass only), then velocities scaled to move a particle by
-    // about 1e-4 R per step and spin it by about 1e-4 rad per step: small enough that thousands of benchmark
-    // steps stay in the small-strain regime, large enough that every branch does its work.
-    const vitrum::CriticalTimeStep crit =
-        vitrum::criticalTimeStep(bm->model.incidence.view(), bm->model.bonds.view(), p.view());
-    bm->dt = 0.1 * crit.dt;
-    const double v_scale = 1e-4 * radius / bm->dt;
-    const double w_scale = 1e-4 / bm->dt;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            p.velocity[3 * i + c] = v_scale * u(rng);
-            p.angular_velocity[3 * i + c] = w_scale * u(rng);
-        }
-    }
-    // Loads consistent with the perturbed state, so the first timed gather/kick sees real forces.
-    vitrum::computeBeamLoads(bm->model.bonds.view(), p.view());
-    vitrum::gatherBondLoads(bm->model.incidence.view(), bm->model.bonds.view(), p.view());
-    return bm;
-}
-
-BenchModel& modelFor(long n) {
-    static std::map<long, std::unique_ptr<BenchModel>> cache;
-    auto it = cache.find(n);
-    if (it == cache.end()) {
-        it = cache.emplace(n, makeModel(n)).first;
-    }
-    return *it->second;
-}
 
 /// Counters every model-based benchmark reports: the actual sizes, the thread count and, when a DRAM byte
 /// model is given (> 0), its rate in bytes per second.
@@ -243,6 +187,60 @@ void BM_FullStep(benchmark::State& state) {
     state.SetLabel(step.describe());
 }
 
+/// Densification law with the defaults of a scene (paper Table 3 slider) and the eqs 5–6 coefficients of
+/// examples/calibration/silica.toml, so that the property evolution is on (the branch a run takes).
+void enableDensification(BenchModel& bm) {
+    vitrum::DensificationParams& d = bm.scene.densification;
+    d.eq5 = Vec3(1.2843127090809194, -3.687196402506809, 1.8988946425383515);
+    d.eq6_b0 = Vec3(-0.5723466906322119, 1.7381374611540705, -1.1751869518960338);
+    d.eq6_b1 = Vec3(0.19265411354365053, -0.8921007573410387, 1.485284568135907);
+    if (bm.model.bonds.slip.size() != bm.model.bonds.size()) {
+        bm.model.bonds.enableDensification();
+    }
+}
+
+/// Beam loads with the spring-slider in the same pass (effect densification, property evolution on). The
+/// perturbed lattice stays far below the yield stress, so every bond takes the elastic branch of the return
+/// mapping: the common case away from the indenter; the slip branch is not timed.
+void BM_BeamLoadsDensified(benchmark::State& state) {
+    BenchModel& bm = modelFor(state.range(0));
+    enableDensification(bm);
+    const vitrum::BondView b = bm.model.bonds.view();
+    const vitrum::ParticleView p = bm.model.particles.view();
+    const vitrum::DensificationLaw law = vitrum::densificationLaw(bm.scene);
+    const vitrum::DensificationView d = bm.model.bonds.densificationView();
+    for (auto _ : state) {
+        vitrum::computeBeamLoads(b, p, law, d);
+        benchmark::ClobberMemory();
+    }
+    const double nb = static_cast<double>(b.n);
+    state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
+    reportCommon(state, bm, (kBeamStreamBytes + kDensifyBytes) * nb + kBeamParticleBytes * static_cast<double>(p.n));
+}
+
+/// The full elastic + densification step: composeStep with effects {elasticity, densification}.
+void BM_FullStepDensified(benchmark::State& state) {
+    BenchModel& bm = modelFor(state.range(0));
+    enableDensification(bm);
+    vitrum::Scene scene = bm.scene;
+    scene.effects = {"elasticity", "densification"};
+    vitrum::Step step = vitrum::composeStep(scene, bm.model);
+    vitrum::StepContext ctx{bm.model, bm.dt, 0.0};
+    step.computeForces(ctx);
+    for (auto _ : state) {
+        ctx.time += ctx.dt;
+        step.advance(ctx);
+        benchmark::ClobberMemory();
+    }
+    const double nb = static_cast<double>(bm.model.bonds.size());
+    const double np = static_cast<double>(bm.model.particles.size());
+    const double dram = (kBeamStreamBytes + kDensifyBytes) * nb + kBeamParticleBytes * np + kGatherDramPerBond * nb +
+                        kGatherPerParticle * np + kIntegrateBytes * np;
+    state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
+    reportCommon(state, bm, dram);
+    state.SetLabel(step.describe());
+}
+
 /// STREAM-style triad a[i] = b[i] + s·c[i] through vitrum::parallelFor (same threading and static schedule
 /// as the kernels). 3 arrays of 2^25 doubles (768 MiB in all, well beyond the last-level cache), first-touched
 /// by the same parallelFor so pages sit where the threads run. Counted at 24 B/element (two reads, one write;
@@ -288,6 +286,75 @@ void BM_StreamTriad(benchmark::State& state) {
                            benchmark::Counter::kIsRate);
 }
 
+/// Peak-ish floating-point rate: every thread (one parallelFor index per thread) runs `kChains` independent
+/// dependency chains x ← x·m + a (one multiply and one add per element: 2 flop) for `kSweeps` sweeps. 24
+/// doubles are 12 SSE2 registers, enough independent chains to cover the multiply and add latencies on both
+/// FP pipes. Variant 0: this build's ISA (x86-64-v2: SSE2 mulpd + addpd, no FMA), the bound the kernels can
+/// reach as compiled. Variant 1: the same loop compiled for AVX2 + FMA (`target` attribute; 12 chains of 4
+/// doubles, one FMA each), the hardware's double-precision peak on this machine, reached only by a build with
+/// -march=x86-64-v3 or wider; skipped when the CPU lacks FMA.
+constexpr int kChains = 24;
+constexpr long kSweeps = 1L << 22;
+
+double peakLoopBuildIsa(double m, double a) {
+    double x[kChains];
+    for (int c = 0; c < kChains; ++c) {
+        x[c] = 1.0 + 1e-3 * c;
+    }
+    for (long s = 0; s < kSweeps; ++s) {
+        for (int c = 0; c < kChains; ++c) {
+            x[c] = x[c] * m + a;
+        }
+    }
+    double sum = 0.0;
+    for (int c = 0; c < kChains; ++c) {
+        sum += x[c];
+    }
+    return sum;
+}
+
+constexpr int kChainsFma = 48;
+__attribute__((target("avx2,fma"))) double peakLoopFma(double m, double a) {
+    double x[kChainsFma];
+    for (int c = 0; c < kChainsFma; ++c) {
+        x[c] = 1.0 + 1e-3 * c;
+    }
+    for (long s = 0; s < kSweeps; ++s) {
+        for (int c = 0; c < kChainsFma; ++c) {
+            x[c] = __builtin_fma(x[c], m, a);
+        }
+    }
+    double sum = 0.0;
+    for (int c = 0; c < kChainsFma; ++c) {
+        sum += x[c];
+    }
+    return sum;
+}
+
+void BM_PeakFlops(benchmark::State& state) {
+    const int variant = static_cast<int>(state.range(0));
+    if (variant == 1 && !__builtin_cpu_supports("fma")) {
+        state.SkipWithError("CPU without FMA");
+        return;
+    }
+    const int threads = vitrum::threadCount();
+    std::vector<double> sink(static_cast<std::size_t>(threads), 0.0);
+    const double m = 0.999999;
+    const double a = 1e-6;
+    for (auto _ : state) {
+        vitrum::parallelFor("bench.peak", static_cast<std::size_t>(threads), [&](std::size_t t) {
+            sink[t] = variant == 1 ? peakLoopFma(m, a) : peakLoopBuildIsa(m, a);
+        });
+        benchmark::DoNotOptimize(sink.data());
+    }
+    const double chains = variant == 1 ? kChainsFma : kChains;
+    const double flops = 2.0 * chains * static_cast<double>(kSweeps) * threads;
+    state.counters["flops"] = benchmark::Counter(flops * static_cast<double>(state.iterations()),
+                                                 benchmark::Counter::kIsRate);
+    state.counters["threads"] = threads;
+    state.SetLabel(variant == 1 ? "avx2+fma" : "build isa (sse2 mul+add)");
+}
+
 // ---- design bench: CSR gather vs atomic scatter ---------------------------------------------------------
 //
 // The decision under test (DESIGN: race-free bond kernels, STYLE.md rule 5): per-bond loads are stored and
@@ -301,6 +368,9 @@ void BM_StreamTriad(benchmark::State& state) {
 //   1 atomic_scatter         zero F, T; each bond atomically adds its stored loads into both ends
 //   2 beam+csr_gather        computeBeamLoads + gatherBondLoads (the production force evaluation)
 //   3 fused_beam+atomic      beam law evaluated and scattered atomically in one pass: no per-bond load store
+//   4 thread_buffers         each thread scatters its bonds' stored loads into a private copy of F, T; then a
+//                            per-particle sum of the copies in thread order
+//   5 fused_beam+thread_buffers  beam law evaluated and scattered into the private copies in one pass
 // 0 vs 1 compares the passes like for like; 2 vs 3 compares whole force evaluations, giving the atomic
 // design its best case (it saves the 72 B/bond store and its re-read).
 
@@ -361,6 +431,86 @@ void fusedBeamAtomicScatter(const vitrum::BondView& b, const vitrum::ParticleVie
     }
 }
 
+/// Per-thread buffers: each thread accumulates the loads of its static share of the bonds into its own
+/// zeroed copy of the particle force and torque arrays (no atomics, no races), then every particle sums the
+/// copies in thread order. Deterministic for a fixed thread count, but the summation grouping (and so the
+/// rounding) changes with it. Costs T × 48 B/particle of zeroing and of reduction reads.
+struct ThreadBuffers {
+    std::vector<std::vector<double>> force;
+    std::vector<std::vector<double>> torque;
+};
+
+ThreadBuffers& threadBuffers(std::size_t n) {
+    static ThreadBuffers tb;
+    const auto threads = static_cast<std::size_t>(vitrum::threadCount());
+    if (tb.force.size() != threads || tb.force[0].size() != 3 * n) {
+        tb.force.assign(threads, std::vector<double>(3 * n, 0.0));
+        tb.torque.assign(threads, std::vector<double>(3 * n, 0.0));
+    }
+    return tb;
+}
+
+template <bool Fused>
+void threadBufferScatter(const vitrum::BondView& b, const vitrum::ParticleView& p) {
+    ThreadBuffers& tb = threadBuffers(p.n);
+    const long long n = static_cast<long long>(b.n);
+#pragma omp parallel
+    {
+        const auto t = static_cast<std::size_t>(omp_get_thread_num());
+        double* f = tb.force[t].data();
+        double* tq = tb.torque[t].data();
+        std::fill(tb.force[t].begin(), tb.force[t].end(), 0.0);
+        std::fill(tb.torque[t].begin(), tb.torque[t].end(), 0.0);
+#pragma omp for schedule(static)
+        for (long long kk = 0; kk < n; ++kk) {
+            const std::size_t k = static_cast<std::size_t>(kk);
+            if (b.broken[k]) {
+                continue;
+            }
+            const std::size_t i = static_cast<std::size_t>(b.i[k]);
+            const std::size_t j = static_cast<std::size_t>(b.j[k]);
+            Vec3 fi;
+            Vec3 ti;
+            Vec3 tj;
+            if constexpr (Fused) {
+                const vitrum::BeamLoads loads =
+                    vitrum::EulerBernoulliBeam::make(b.young[k], b.shear[k], b.section_radius[k], b.rest_length[k])
+                        .evaluate(vitrum::beamKinematics(
+                            vitrum::load3(p.position, i), vitrum::load3(p.position, j),
+                            vitrum::loadQuat(p.orientation, i), vitrum::loadQuat(p.orientation, j),
+                            vitrum::load3(b.axis_i, k), vitrum::load3(b.axis_j, k), vitrum::loadQuat(b.twist_ref, k),
+                            b.rest_length[k]));
+                fi = loads.force_i;
+                ti = loads.torque_i;
+                tj = loads.torque_j;
+            } else {
+                fi = vitrum::load3(b.force, k);
+                ti = vitrum::load3(b.torque_i, k);
+                tj = vitrum::load3(b.torque_j, k);
+            }
+            for (int c = 0; c < 3; ++c) {
+                f[3 * i + c] += fi[c];
+                f[3 * j + c] -= fi[c];
+                tq[3 * i + c] += ti[c];
+                tq[3 * j + c] += tj[c];
+            }
+        }
+        // implicit barrier of omp for: every buffer is complete
+        const std::size_t threads = tb.force.size();
+#pragma omp for schedule(static)
+        for (long long q = 0; q < static_cast<long long>(3 * p.n); ++q) {
+            double fs = 0.0;
+            double ts = 0.0;
+            for (std::size_t u = 0; u < threads; ++u) {
+                fs += tb.force[u][static_cast<std::size_t>(q)];
+                ts += tb.torque[u][static_cast<std::size_t>(q)];
+            }
+            p.force[q] = fs;
+            p.torque[q] = ts;
+        }
+    }
+}
+
 /// Largest |x_atomic − x_gather| over all particle force and torque components, relative to the largest
 /// |x_gather|: the atomic scatter sums in a thread-dependent order, so it agrees only to rounding.
 double relativeDifference(const std::vector<double>& ref, const std::vector<double>& other) {
@@ -399,8 +549,14 @@ void BM_GatherVsAtomicScatter(benchmark::State& state) {
             vitrum::computeBeamLoads(b, p);
             vitrum::gatherBondLoads(inc, b, p);
             break;
-        default:
+        case 3:
             fusedBeamAtomicScatter(b, p);
+            break;
+        case 4:
+            threadBufferScatter<false>(b, p);
+            break;
+        default:
+            threadBufferScatter<true>(b, p);
             break;
         }
     };
@@ -412,8 +568,9 @@ void BM_GatherVsAtomicScatter(benchmark::State& state) {
         run();
         benchmark::ClobberMemory();
     }
-    static const char* const kNames[] = {"csr_gather", "atomic_scatter", "beam+csr_gather", "fused_beam+atomic"};
-    state.SetLabel(kNames[variant < 4 ? variant : 3]);
+    static const char* const kNames[] = {"csr_gather",        "atomic_scatter",      "beam+csr_gather",
+                                         "fused_beam+atomic", "thread_buffers",      "fused_beam+thread_buffers"};
+    state.SetLabel(kNames[variant < 6 ? variant : 5]);
     const double nb = static_cast<double>(b.n);
     state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
     state.counters["max_rel_diff"] = rel;
@@ -451,9 +608,20 @@ BENCHMARK(BM_FullStep)
     ->Range(kMinParticles, kMaxParticles)
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
+BENCHMARK(BM_PeakFlops)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_BeamLoadsDensified)
+    ->RangeMultiplier(10)
+    ->Range(kMinParticles, kMaxParticles)
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+BENCHMARK(BM_FullStepDensified)
+    ->RangeMultiplier(10)
+    ->Range(kMinParticles, kMaxParticles)
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 BENCHMARK(BM_GatherVsAtomicScatter)
     ->ArgNames({"n", "variant"})
-    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2, 3}})
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2, 3, 4, 5}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 

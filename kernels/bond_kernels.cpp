@@ -33,8 +33,11 @@ EulerBernoulliBeam densify(const DensificationLaw& law, const DensificationView&
     const SliderState old{d.slip[k], d.reference_strain[k]};
     double section_factor = 1.0; // S/S₀: the slider works with the nominal stress N/S₀
     if constexpr (Evolve) {
-        const double r = law.evolution.scaleAt(old.slip / law.slider.max_slip).radius_ratio;
-        section_factor = r * r;
+        // An undensified bond (slip 0, nearly all of them) has r̃(0)/r̃(0) = 1 exactly: skip eqs 5–6 there.
+        if (old.slip != 0.0) {
+            const double r = law.evolution.scaleAt(old.slip / law.slider.max_slip).radius_ratio;
+            section_factor = r * r;
+        }
     }
     const SliderResult result = law.slider.update(old, strain, d.young[k] * section_factor);
     SliderState next = result.state;

@@ -230,5 +230,73 @@ TEST(BeamLaw, LoadsAreTheStrainEnergyGradientToFirstOrder) {
     EXPECT_LT(fine / coarse, 0.2);
 }
 
+// ---- the atan2-free angle evaluation (kernels/beam.hpp) -------------------------------------------------
+// The bending angles and the twist are evaluated without atan2 below 2 atan(1/8) = 0.249 rad, by the series
+// atanOverArgSeries. Its stated bound is ≈ 0.6 ulp; the check allows 4·10⁻¹⁶ relative (≈ 2 ulp of a value
+// near 1). A wrong leading coefficient or a missing term up to u¹⁴ would exceed it (u¹⁴/15 = 2.7·10⁻¹⁴ at
+// u = 1/8); the last term, u¹⁶/17 ≤ 2.1·10⁻¹⁶, is at round-off by design, so this test cannot see it — the
+// truncation bound of the omitted u¹⁸ term is the argument for it. The reference is atan in long double
+// (64-bit mantissa, 2¹¹ times finer than double).
+
+TEST(BeamLaw, AtanSeriesMatchesLibmToRoundOff) {
+    double worst = 0.0;
+    const int n = 200000;
+    for (int k = 1; k <= n; ++k) {
+        const double u = 0.125 * static_cast<double>(k) / n;
+        const long double exact = std::atan(static_cast<long double>(u)) / static_cast<long double>(u);
+        const double got = atanOverArgSeries(u * u);
+        worst = std::max(worst, static_cast<double>(std::fabs((static_cast<long double>(got) - exact) / exact)));
+    }
+    RecordProperty("worst_relative_error", std::to_string(worst / 1e-16) + "e-16");
+    EXPECT_LT(worst, 4e-16);
+    EXPECT_EQ(atanOverArgSeries(0.0), 1.0);
+}
+
+/// Reference bending rotation by the atan2 form, evaluated in long double from the same double cross
+/// product and dot product the kernel forms (those two carry the inputs' own rounding, common to both forms).
+Eigen::Matrix<long double, 3, 1> bendingReference(const Vec3& axis, const Vec3& normal) {
+    const Eigen::Matrix<long double, 3, 1> c = axis.cross(normal).cast<long double>();
+    const long double cosine = axis.dot(normal);
+    const long double s = c.norm();
+    return s == 0.0L ? c : (std::atan2(s, cosine) / s) * c;
+}
+
+TEST(BeamLaw, BendingRotationAndTwistMatchAtan2FormOnBothSidesOfTheSeriesLimit) {
+    // Angles from 1e-9 to 3 rad (series below 0.249 rad, atan2 above), random axes: the rotation vector and
+    // the twist must equal the atan2 form to round-off. Relative tolerance 1e-15, i.e. a few ulp: normal and
+    // chord are unit only to ≈ 1e-16, and the atan2 and half-angle forms differ at that order when |m| ≠ 1
+    // exactly. Far below the model's first-order error (5e-5 at rotations of 0.002). The angle itself is
+    // checked to 1e-15 absolute: the double cross product of nearly parallel unit vectors carries ≈ 1e-16 of
+    // absolute rounding, whichever form follows.
+    std::mt19937_64 rng(23);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    double worst_bend = 0.0;
+    double worst_twist = 0.0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        const double angle = std::pow(10.0, -9.0 + 9.477 * (0.5 + 0.5 * u(rng))); // 1e-9 … 3
+        const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+        const Vec3 perp = axis.cross(Vec3(u(rng), u(rng), u(rng))).normalized();
+        const Vec3 normal = rotation(angle, perp) * axis;
+        const Eigen::Matrix<long double, 3, 1> ref = bendingReference(axis, normal);
+        const Vec3 got = bendingRotation(axis, normal);
+        worst_bend = std::max(worst_bend, static_cast<double>((got.cast<long double>() - ref).norm() / ref.norm()));
+        EXPECT_NEAR(got.norm(), angle, 1e-15 * angle + 1e-15) << "angle " << angle;
+
+        const double psi = (u(rng) > 0.0 ? 1.0 : -1.0) * angle;
+        const Quat swing = rotation(0.5 * u(rng), perp);
+        const Eigen::Vector4d coeffs = (u(rng) > 0.0 ? 1.0 : -1.0) * (swing * rotation(psi, axis)).coeffs();
+        const Quat rel(coeffs); // ±q: the same rotation
+        const long double along = rel.vec().dot(axis); // the double dot product the kernel forms
+        const long double w = rel.w();
+        const long double twist_ref = w >= 0 ? 2.0L * std::atan2(along, w) : 2.0L * std::atan2(-along, -w);
+        const double twist = twistAbout(rel, axis);
+        worst_twist = std::max(worst_twist, static_cast<double>(std::fabs((twist - twist_ref) / twist_ref)));
+    }
+    RecordProperty("worst_bending_relative", std::to_string(worst_bend / 1e-16) + "e-16");
+    RecordProperty("worst_twist_relative", std::to_string(worst_twist / 1e-16) + "e-16");
+    EXPECT_LT(worst_bend, 1e-15);
+    EXPECT_LT(worst_twist, 1e-15);
+}
+
 } // namespace
 } // namespace vitrum
