@@ -131,4 +131,22 @@ FrequencyEstimate highestFrequency(Model& m, int max_iterations, double toleranc
     return est;
 }
 
+FrequencyEstimate highestFrequencyDensified(Model& m, const PropertyEvolution& evolution) {
+    const StiffnessEnvelope env = stiffnessEnvelope(evolution);
+    Bonds& b = m.bonds;
+    const std::vector<double> young = b.young;
+    const std::vector<double> shear = b.shear;
+    const std::vector<double> radius = b.section_radius;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        b.young[k] *= env.young;
+        b.shear[k] *= env.young;
+        b.section_radius[k] *= env.radius;
+    }
+    const FrequencyEstimate est = highestFrequency(m);
+    b.young = young;
+    b.shear = shear;
+    b.section_radius = radius;
+    return est;
+}
+
 } // namespace vitrum

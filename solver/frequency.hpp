@@ -26,4 +26,11 @@ struct FrequencyEstimate {
 /// (boundary-driven) particles are held fixed.
 FrequencyEstimate highestFrequency(Model& model, int max_iterations = 100, double tolerance = 0.02);
 
+/// ω_max for a run whose bonds stiffen as they densify (effect densification with property evolution): the
+/// estimate above with every unbroken bond temporarily given the envelope of its densified properties
+/// (kernels/densification.hpp stiffnessEnvelope: E S up to ×1.9, E I at most ×1 with the silica calibration),
+/// then restored. Computed once from the model's bonds as built, so it does not depend on the densification
+/// state: the same Δt before and after a restart, and never optimistic as bonds stiffen.
+FrequencyEstimate highestFrequencyDensified(Model& model, const PropertyEvolution& evolution);
+
 } // namespace vitrum
