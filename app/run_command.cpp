@@ -172,9 +172,7 @@ int runScene(const RunOptions& options) {
     // With densification and property evolution the bonds stiffen as they slip (axially up to ×1.9): the
     // estimate is then made for the stiffest state every bond can reach, so Δt never becomes optimistic.
     const bool stiffening = scene.hasEffect("densification") && scene.densification.property_evolution;
-    const FrequencyEstimate frequency = stiffening
-                                            ? highestFrequencyDensified(model, densificationLaw(scene).evolution)
-                                            : highestFrequency(model);
+    const FrequencyEstimate frequency = highestFrequencyFor(scene, model);
     CriticalTimeStep critical;
     critical.omega = frequency.omega;
     if (model.indenter) {

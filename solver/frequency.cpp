@@ -7,6 +7,7 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
+#include "solver/step.hpp"
 
 namespace vitrum {
 
@@ -147,6 +148,13 @@ FrequencyEstimate highestFrequencyDensified(Model& m, const PropertyEvolution& e
     b.shear = shear;
     b.section_radius = radius;
     return est;
+}
+
+FrequencyEstimate highestFrequencyFor(const Scene& scene, Model& m) {
+    if (scene.hasEffect("densification") && scene.densification.property_evolution) {
+        return highestFrequencyDensified(m, densificationLaw(scene).evolution);
+    }
+    return highestFrequency(m);
 }
 
 } // namespace vitrum

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "solver/model.hpp"
+#include "solver/scene.hpp"
 
 namespace vitrum {
 
@@ -32,5 +33,9 @@ FrequencyEstimate highestFrequency(Model& model, int max_iterations = 100, doubl
 /// then restored. Computed once from the model's bonds as built, so it does not depend on the densification
 /// state: the same Δt before and after a restart, and never optimistic as bonds stiffen.
 FrequencyEstimate highestFrequencyDensified(Model& model, const PropertyEvolution& evolution);
+
+/// The estimate the `run` driver uses for `scene`: highestFrequencyDensified when the scene lists the effect
+/// densification with property evolution, highestFrequency otherwise (contacts and the tool come on top).
+FrequencyEstimate highestFrequencyFor(const Scene& scene, Model& model);
 
 } // namespace vitrum
