@@ -55,8 +55,12 @@ TEST(DensificationCalibrationCommand, TinySphereFindsTheOnsetAndWritesAFileScene
     // The file: the elastic calibration with a [densification] section that the scene reader picks up.
     const CalibrationFile file = readCalibration(cal.string());
     ASSERT_TRUE(file.densification.has_value());
-    std::ostringstream radius; // the command's radius, R(N/N_scene)^(1/3), to round-trip precision
-    radius << std::setprecision(17) << 5.0 * std::cbrt(250.0 / 10000.0);
+    // The command's sphere radius R (N/N_scene)^(1/3), as its runs used it (a compile-time cbrt may differ
+    // from the library's by an ulp, and the packing cache checks the radius exactly).
+    const Scene used = readScene((dir / "runs" / "eval0" / "P4" / "resolved_scene.toml").string());
+    EXPECT_NEAR(used.sample.radius, 5.0 * std::cbrt(250.0 / 10000.0), 1e-12);
+    std::ostringstream radius;
+    radius << std::setprecision(17) << used.sample.radius;
     const std::string packing = (dir / "runs" / "packings" / "hydrostatic-N250-seed1.h5").string();
     const std::vector<std::string> sample = {"material.calibration=\"" + cal.string() + "\"", "sample.particles=250",
                                              "sample.radius=" + radius.str(), "sample.file=\"" + packing + "\""};
@@ -75,6 +79,7 @@ TEST(DensificationCalibrationCommand, TinySphereFindsTheOnsetAndWritesAFileScene
     std::vector<double> p = {0.0}, d = {0.0};
     for (const std::string& text : {"4", "7", "10", "14", "20"}) {
         const fs::path out = dir / ("check-P" + text);
+        fs::create_directories(out);
         std::string run = "run " + kScene + " --quiet --threads 1 --out " + out.string();
         for (const std::string& o : sample) {
             run += " --set '" + o + "'";
