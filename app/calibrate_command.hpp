@@ -25,4 +25,31 @@ struct CalibrateOptions {
 
 int calibrateElastic(const CalibrateOptions& options);
 
+/// `vitrum calibrate densification`: σ_μ^d, E_μ^t, ε_μ^pmax for Ji's macroscopic targets (P_d, P_s, ΔV/V₀)
+/// by hydrostatic sphere tests run in-process (the `run` driver on the scene with overrides), searched in
+/// the paper's order (solver/densification_calibration.hpp); finite-difference sensitivities at the result
+/// (paper Figs 7–9); the result written as the [densification] section of the calibration file.
+struct DensificationCalibrateOptions {
+    std::string scene = "examples/hydrostatic-sphere.toml";
+    std::vector<std::string> overrides; ///< --set for every run
+    long particles = 0;                 ///< 0: the scene's; otherwise the sphere radius scales as N^(1/3)
+    std::uint64_t seed = 1;             ///< packing seed
+    std::vector<double> pressures = {4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 25, 30}; ///< P_max, GPa
+    double ramp = 10.0, hold = 5.0, release = 5.0, rest = 5.0;                     ///< ns
+    double target_onset = 8.0;          ///< P_d, GPa (Ji)
+    double target_saturation = 20.0;    ///< P_s, GPa
+    double target_volume_change = 17.4; ///< ΔV/V₀, %
+    std::vector<double> tolerances = {0.4, 1.2, 0.4}; ///< GPa, GPa, % (absolute; inside the acceptance 0.5, 1.5, 0.5)
+    std::vector<double> start = {7.13, 98.82, 0.067};    ///< σ_μ^d (GPa), E_μ^t (GPa), ε_μ^pmax: paper Table 3
+    int max_evaluations = 12;
+    bool sensitivity = true;            ///< finite differences at the result
+    std::vector<double> sensitivity_steps = {0.1, 20.0, 0.2}; ///< +10 % σ, +20 GPa E_t, +20 % ε
+    std::string out_dir = "out/densification-calibration";
+    std::string output;                 ///< calibration file to write; "" = the scene's [material] calibration
+    int threads = 0;
+    std::string command_line;
+};
+
+int calibrateDensification(const DensificationCalibrateOptions& options);
+
 } // namespace vitrum

@@ -76,6 +76,57 @@ int main(int argc, char** argv) {
     elastic_cmd->add_option("--set", calibrate.overrides, "Override a key of the tensile scene for every test");
     elastic_cmd->add_option("--threads", calibrate.threads, "OpenMP threads")->check(CLI::PositiveNumber);
 
+    vitrum::DensificationCalibrateOptions densify;
+    bool no_sensitivity = false;
+    CLI::App* densify_cmd = calibrate_cmd->add_subcommand(
+        "densification",
+        "Hydrostatic sphere tests (the run driver, in-process) to find the spring-slider's sigma_mu^d, E_mu^t, "
+        "eps_mu^pmax for Ji's onset P_d, saturation P_s and saturated dV/V0, in the paper's order (sigma_mu^d, "
+        "then E_mu^t, then eps_mu^pmax); finite-difference sensitivities at the result (paper Figs 7-9); writes "
+        "the [densification] section of the calibration file and prints it beside the paper's Table 3. Each "
+        "evaluation fits Ji's bilinear envelope to the residual volume change over the pressures. Exit 0 when "
+        "converged, 1 when not (the calibration file is then left unchanged), 2 on bad input.");
+    densify_cmd->add_option("--scene", densify.scene, "Hydrostatic sphere scene (effect densification, [[load]] "
+                                                      "pressure, [material] calibration)")
+        ->capture_default_str();
+    densify_cmd->add_option("--set", densify.overrides, "Override a key of the scene for every run");
+    densify_cmd->add_option("--particles", densify.particles,
+                            "Particles in the sphere (default: the scene's); the radius scales as N^(1/3) to keep "
+                            "the particle size")
+        ->check(CLI::Range(10L, 10000000L));
+    densify_cmd->add_option("--seed", densify.seed, "Packing seed")->capture_default_str();
+    densify_cmd->add_option("--pressures", densify.pressures, "Maximum pressures P_max of the tests (GPa)")
+        ->delimiter(',')->capture_default_str();
+    densify_cmd->add_option("--ramp", densify.ramp, "Ramp time (ns)")->capture_default_str()->check(CLI::PositiveNumber);
+    densify_cmd->add_option("--hold", densify.hold, "Hold time at P_max (ns)")->capture_default_str()->check(CLI::NonNegativeNumber);
+    densify_cmd->add_option("--release", densify.release, "Release time (ns)")->capture_default_str()->check(CLI::PositiveNumber);
+    densify_cmd->add_option("--rest", densify.rest, "Time at zero pressure after the release (ns)")
+        ->capture_default_str()->check(CLI::NonNegativeNumber);
+    densify_cmd->add_option("--onset", densify.target_onset, "Target P_d (GPa; Ji)")->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    densify_cmd->add_option("--saturation", densify.target_saturation, "Target P_s (GPa; Ji)")->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    densify_cmd->add_option("--volume-change", densify.target_volume_change, "Target saturated dV/V0 (%; Ji)")
+        ->capture_default_str()->check(CLI::Range(0.01, 99.0));
+    densify_cmd->add_option("--tolerances", densify.tolerances, "Tolerances on P_d, P_s (GPa) and dV/V0 (%)")
+        ->delimiter(',')->expected(3)->capture_default_str();
+    densify_cmd->add_option("--start", densify.start,
+                            "Start sigma_mu^d (GPa), E_mu^t (GPa), eps_mu^pmax (default: paper Table 3)")
+        ->delimiter(',')->expected(3)->capture_default_str();
+    densify_cmd->add_option("--max-evaluations", densify.max_evaluations, "Most parameter sets to evaluate")
+        ->capture_default_str()->check(CLI::Range(1, 1000));
+    densify_cmd->add_flag("--no-sensitivity", no_sensitivity, "Skip the three sensitivity evaluations at the result");
+    densify_cmd->add_option("--sensitivity-steps", densify.sensitivity_steps,
+                            "Forward steps: relative for sigma_mu^d, GPa for E_mu^t, relative for eps_mu^pmax")
+        ->delimiter(',')->expected(3)->capture_default_str();
+    densify_cmd->add_option("--out", densify.out_dir, "Directory for the runs, packings, history.csv and "
+                                                      "sensitivity.csv")
+        ->capture_default_str();
+    densify_cmd->add_option("--output", densify.output,
+                            "Calibration file to write (TOML; default: the scene's [material] calibration, which "
+                            "gets its [densification] section replaced)");
+    densify_cmd->add_option("--threads", densify.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -97,6 +148,13 @@ int main(int argc, char** argv) {
                 calibrate.command_line += (k ? " " : "") + std::string(argv[k]);
             }
             return vitrum::calibrateElastic(calibrate);
+        }
+        if (densify_cmd->parsed()) {
+            for (int k = 0; k < argc; ++k) {
+                densify.command_line += (k ? " " : "") + std::string(argv[k]);
+            }
+            densify.sensitivity = !no_sensitivity;
+            return vitrum::calibrateDensification(densify);
         }
     } catch (const vitrum::InputError& e) {
         std::cerr << "vitrum: error: " << e.what() << '\n';

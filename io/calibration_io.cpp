@@ -108,7 +108,42 @@ CalibrationFile readCalibration(const std::string& path) {
     if (!(f.micro.beam_young > 0.0) || !(f.micro.radius_ratio > 0.0)) {
         throw InputError(path + ": calibration file: [micro] beam_young_modulus and beam_radius_ratio must be > 0");
     }
+    if (root.contains("densification")) {
+        DensificationParameters d;
+        d.yield_stress = requireNumber(root, "densification.yield_stress", path);
+        d.tangent_modulus = requireNumber(root, "densification.tangent_modulus", path);
+        d.max_permanent_strain = requireNumber(root, "densification.max_permanent_strain", path);
+        if (!(d.yield_stress > 0.0) || !(d.tangent_modulus >= 0.0) ||
+            !(d.max_permanent_strain > 0.0 && d.max_permanent_strain <= 1.0)) {
+            throw InputError(path + ": calibration file: [densification] expected yield_stress > 0, "
+                                    "tangent_modulus >= 0 (GPa) and 0 < max_permanent_strain <= 1");
+        }
+        f.densification = d;
+    }
     return f;
+}
+
+const char* const kDensificationSectionMarker =
+    "# --- densification (vitrum calibrate densification; it replaces everything from this line on) ---";
+
+std::string withDensificationSection(const std::string& text, const std::string& section, const std::string& path) {
+    std::string head = text;
+    if (const std::size_t at = text.find(kDensificationSectionMarker); at != std::string::npos) {
+        head = text.substr(0, at);
+    }
+    std::istringstream lines(head);
+    for (std::string line; std::getline(lines, line);) {
+        const std::size_t start = line.find_first_not_of(" \t");
+        if (start != std::string::npos && line.compare(start, 15, "[densification]") == 0) {
+            throw InputError(path + ": calibration file: a [densification] table that vitrum calibrate "
+                                    "densification did not write (no marker line); remove it, then run the "
+                                    "command again");
+        }
+    }
+    while (!head.empty() && (head.back() == '\n' || head.back() == ' ')) {
+        head.pop_back();
+    }
+    return head + "\n\n" + section;
 }
 
 } // namespace vitrum

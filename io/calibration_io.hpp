@@ -7,7 +7,10 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
 #include "solver/calibration.hpp"
+#include "solver/densification_calibration.hpp"
 #include "solver/scene.hpp"
 
 namespace vitrum {
@@ -29,12 +32,26 @@ struct CalibrationFile {
     std::vector<CalibrationRecord> records;
     std::string command;          ///< the command that regenerates the file
     std::string vitrum_version;
+    /// [densification] of `vitrum calibrate densification` (σ_μ^d, E_μ^t in GPa, ε_μ^pmax), if the file has one.
+    std::optional<DensificationParameters> densification;
 };
 
 /// TOML text of the calibration file.
 std::string calibrationToml(const CalibrationFile& file);
 
-/// Reads the micro-parameters and fit of a calibration file (InputError with file:line on bad content).
+/// Reads the micro-parameters and fit of a calibration file (InputError with file:line on bad content), and
+/// its [densification] table when there is one.
 CalibrationFile readCalibration(const std::string& path);
+
+/// The line that opens the densification section `vitrum calibrate densification` appends to a calibration
+/// file; everything from it to the end of the file belongs to that command.
+extern const char* const kDensificationSectionMarker;
+
+/// `calibration_text` (an elastic calibration file) with its densification section replaced by `section`
+/// (which must start with kDensificationSectionMarker), or `section` appended when it has none. Throws
+/// InputError naming `path` when the text has a [densification] table outside such a section (written by
+/// hand: the command would otherwise leave two).
+std::string withDensificationSection(const std::string& calibration_text, const std::string& section,
+                                     const std::string& path);
 
 } // namespace vitrum

@@ -614,6 +614,7 @@ void SceneParser::readMaterial(const TableReader& top, Scene& scene) const {
             m.radius_ratio = c.micro.radius_ratio;
             m.beam_poisson = c.beam_poisson;
             m.density = c.density * 1e-3;
+            m.calibration = file.lexically_normal().string();
             material_calibration_ = c; // eqs (5)-(6) for [densification]
         } catch (const InputError& e) {
             fail(node->source(), "key 'material.calibration': " + std::string(e.what()));
@@ -828,6 +829,28 @@ void SceneParser::readDensification(const TableReader& top, Scene& scene) const 
                      "eq6_b0", "eq6_b1"});
     DensificationParams& d = scene.densification;
     const std::string in_stress = "in " + scene.units.stress;
+    // Eqs (5)-(6) and the slider's parameters: from this table's calibration file, else [material]'s; the
+    // table's own keys override either.
+    std::optional<CalibrationFile> own;
+    if (auto path = table.string("calibration")) {
+        const toml::node* node = table.find("calibration");
+        std::filesystem::path file(*path);
+        if (file.is_relative() && !isOverride(node->source())) {
+            file = std::filesystem::path(scene.source_path).parent_path() / file;
+        }
+        try {
+            own = readCalibration(file.lexically_normal().string());
+        } catch (const InputError& e) {
+            fail(node->source(), "key 'densification.calibration': " + std::string(e.what()));
+        }
+    }
+    const std::optional<CalibrationFile>& calibration = own ? own : material_calibration_;
+    if (calibration && calibration->densification) {
+        // `vitrum calibrate densification` wrote σ_μ^d, E_μ^t (GPa, the internal unit) and ε_μ^pmax.
+        d.yield_stress = calibration->densification->yield_stress;
+        d.tangent_modulus = calibration->densification->tangent_modulus;
+        d.max_permanent_strain = calibration->densification->max_permanent_strain;
+    }
     if (auto v = table.number("yield_stress", kPositive, in_stress)) {
         d.yield_stress = toInternal(*v, stress_);
     }
@@ -852,21 +875,6 @@ void SceneParser::readDensification(const TableReader& top, Scene& scene) const 
     }
     d.young_gain = table.number("young_gain", kNonNegative).value_or(d.young_gain);
     d.poisson_gain = table.number("poisson_gain", kNonNegative).value_or(d.poisson_gain);
-    // Eqs (5)-(6): from this table's calibration file, else [material]'s; explicit keys override either.
-    std::optional<CalibrationFile> own;
-    if (auto path = table.string("calibration")) {
-        const toml::node* node = table.find("calibration");
-        std::filesystem::path file(*path);
-        if (file.is_relative() && !isOverride(node->source())) {
-            file = std::filesystem::path(scene.source_path).parent_path() / file;
-        }
-        try {
-            own = readCalibration(file.lexically_normal().string());
-        } catch (const InputError& e) {
-            fail(node->source(), "key 'densification.calibration': " + std::string(e.what()));
-        }
-    }
-    const std::optional<CalibrationFile>& calibration = own ? own : material_calibration_;
     if (calibration) {
         const ElasticCalibration& fit = calibration->fit;
         d.eq5 = Vec3(fit.a[0], fit.a[1], fit.a[2]);

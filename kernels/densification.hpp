@@ -141,6 +141,43 @@ inline StiffnessRatios stiffnessRatios(double young_factor, double radius_factor
     return {1.0 / (young_factor * r2), 1.0 / (young_factor * r2 * r2)};
 }
 
+/// The stiffest a bond can become as it densifies, for the critical time step (Δt_crit is computed once,
+/// before any bond has slipped): the largest axial factor E_μ(f) r̃(f)²/(E_μ(0) r̃(0)²) and the largest
+/// bending/torsion factor E_μ(f) r̃(f)⁴/(E_μ(0) r̃(0)⁴) over the progress f ∈ [0, 1], each maximised on its
+/// own, and the (E_μ, r̃) factors of a beam that has both: E_μ × axial²/bending, r̃ × √(bending/axial)
+/// (then E S ∝ E r² and E I ∝ E r⁴ take exactly the two maxima). Every bond's stiffness matrix is a sum of
+/// an axial and a bending/torsion part, each ⪯ the same part of this envelope beam, so the stiffness of any
+/// densification state is ⪯ the envelope's (Loewner order) and ω_max of the envelope bounds ω_max of every
+/// state. The maximum is taken over 1000 equal steps of f and at the ν cap (the only kink); E(f), ν(f) are
+/// linear and eqs (5)–(6) smooth, so what a sample misses between points is O(10⁻⁶) relative.
+/// With the silica calibration: axial ×1.9 at saturation, bending at most ×1 (it falls to ≈ ×0.9).
+struct StiffnessEnvelope {
+    double axial = 1.0;   ///< max_f (E S)(f)/(E S)(0)
+    double bending = 1.0; ///< max_f (E I)(f)/(E I)(0)
+    double young = 1.0;   ///< E_μ factor of the envelope beam: axial²/bending
+    double radius = 1.0;  ///< r̃ factor of the envelope beam: √(bending/axial)
+};
+
+inline StiffnessEnvelope stiffnessEnvelope(const PropertyEvolution& evolution) noexcept {
+    StiffnessEnvelope env;
+    auto take = [&](double f) {
+        const PropertyEvolution::Micro s = evolution.scaleAt(f);
+        const double r2 = s.radius_ratio * s.radius_ratio;
+        env.axial = std::max(env.axial, s.beam_young * r2);
+        env.bending = std::max(env.bending, s.beam_young * r2 * r2);
+    };
+    constexpr int kSteps = 1000;
+    for (int k = 0; k <= kSteps; ++k) {
+        take(static_cast<double>(k) / kSteps);
+    }
+    if (evolution.poisson > 0.0 && evolution.poisson_gain > 0.0) {
+        take((evolution.poisson_max / evolution.poisson - 1.0) / evolution.poisson_gain); // ν cap (clamped)
+    }
+    env.young = env.axial * env.axial / env.bending;
+    env.radius = std::sqrt(env.bending / env.axial);
+    return env;
+}
+
 /// The densification law of a run: the slider and, optionally, the property evolution (chosen once per step).
 struct DensificationLaw {
     SpringSlider slider;

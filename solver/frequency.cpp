@@ -7,6 +7,7 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
+#include "solver/step.hpp"
 
 namespace vitrum {
 
@@ -129,6 +130,31 @@ FrequencyEstimate highestFrequency(Model& m, int max_iterations, double toleranc
     est.relative_residual = lambda > 0.0 ? residual / lambda : 0.0;
     est.omega = std::min(est.omega_gershgorin, std::sqrt(std::max(lambda, 0.0) + residual));
     return est;
+}
+
+FrequencyEstimate highestFrequencyDensified(Model& m, const PropertyEvolution& evolution) {
+    const StiffnessEnvelope env = stiffnessEnvelope(evolution);
+    Bonds& b = m.bonds;
+    const std::vector<double> young = b.young;
+    const std::vector<double> shear = b.shear;
+    const std::vector<double> radius = b.section_radius;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        b.young[k] *= env.young;
+        b.shear[k] *= env.young;
+        b.section_radius[k] *= env.radius;
+    }
+    const FrequencyEstimate est = highestFrequency(m);
+    b.young = young;
+    b.shear = shear;
+    b.section_radius = radius;
+    return est;
+}
+
+FrequencyEstimate highestFrequencyFor(const Scene& scene, Model& m) {
+    if (scene.hasEffect("densification") && scene.densification.property_evolution) {
+        return highestFrequencyDensified(m, densificationLaw(scene).evolution);
+    }
+    return highestFrequency(m);
 }
 
 } // namespace vitrum

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "solver/model.hpp"
+#include "solver/scene.hpp"
 
 namespace vitrum {
 
@@ -25,5 +26,16 @@ struct FrequencyEstimate {
 /// state; the model's positions, orientations, forces and bond loads are restored on return. Kinematic
 /// (boundary-driven) particles are held fixed.
 FrequencyEstimate highestFrequency(Model& model, int max_iterations = 100, double tolerance = 0.02);
+
+/// ω_max for a run whose bonds stiffen as they densify (effect densification with property evolution): the
+/// estimate above with every unbroken bond temporarily given the envelope of its densified properties
+/// (kernels/densification.hpp stiffnessEnvelope: E S up to ×1.9, E I at most ×1 with the silica calibration),
+/// then restored. Computed once from the model's bonds as built, so it does not depend on the densification
+/// state: the same Δt before and after a restart, and never optimistic as bonds stiffen.
+FrequencyEstimate highestFrequencyDensified(Model& model, const PropertyEvolution& evolution);
+
+/// The estimate the `run` driver uses for `scene`: highestFrequencyDensified when the scene lists the effect
+/// densification with property evolution, highestFrequency otherwise (contacts and the tool come on top).
+FrequencyEstimate highestFrequencyFor(const Scene& scene, Model& model);
 
 } // namespace vitrum

@@ -4,6 +4,8 @@
 // residual state is V₀/V − 1 (mass is conserved).
 #pragma once
 
+#include <vector>
+
 #include "solver/model.hpp"
 
 namespace vitrum {
@@ -30,6 +32,15 @@ struct HydrostaticResult {
     double residual_density_change = 0.0; ///< V₀/V_end − 1
     double densified_bond_fraction = 0.0; ///< bonds with slip > 0 (0 without the effect)
     double saturated_bond_fraction = 0.0; ///< bonds at ε_μ^pmax
+    // Surface layer against interior (depth below the initial hull of the loaded set, measured at the bond's
+    // midpoint or the particle centre in the initial configuration; R̄ the mean particle radius):
+    double mean_radius = 0.0;                      ///< R̄, µm
+    double interior_depth = 0.0;                   ///< 2 R̄: the interior starts this deep, µm
+    double interior_densified_bond_fraction = 0.0; ///< over bonds ≥ 2 R̄ deep
+    double surface_densified_bond_fraction = 0.0;  ///< over bonds < 2 R̄ deep
+    double interior_residual_volume_change = 0.0;  ///< (V₀ − V)/V₀ of the hull of the particles ≥ 2 R̄ deep
+    std::vector<double> densified_fraction_by_depth; ///< bins [k R̄, (k+1) R̄), k = 0 … 5, then ≥ 6 R̄
+    std::vector<long> bonds_by_depth;                ///< bonds per bin
 };
 
 /// Measurements at the end of the run.

@@ -42,6 +42,7 @@ struct MaterialParams {
     double beam_young = 414.0;     ///< E_μ, GPa
     double beam_poisson = 0.3;     ///< ν_μ (G_μ = E_μ/(2(1+ν_μ)))
     double radius_ratio = 0.57;    ///< r̃_μ: beam radius / mean radius of the two particles
+    std::string calibration;       ///< the calibration file read for [material] calibration (resolved path; "" if none)
 };
 
 /// A named particle set. `where` is a geometric selector, see solver/sets.hpp for the grammar.

@@ -58,12 +58,19 @@ def run_one(a, p: float, ramp: float, hold: float, release: float) -> dict:
            "ji_envelope_density_change_percent": ji_envelope(m["pressure_GPa"]),
            "densified_bond_fraction": m.get("densified_bond_fraction", 0.0),
            "saturated_bond_fraction": m.get("saturated_bond_fraction", 0.0),
+           # surface layer (< 2 mean radii below the initial hull) against interior
+           "interior_residual_volume_change_percent": 100.0 * m.get("interior_residual_volume_change", 0.0),
+           "surface_densified_bond_fraction": m.get("surface_densified_bond_fraction", 0.0),
+           "interior_densified_bond_fraction": m.get("interior_densified_bond_fraction", 0.0),
+           "densified_fraction_by_depth": " ".join(f"{x:.4f}" for x in m.get("densified_fraction_by_depth", [])),
            "kinetic_to_strain_energy": m["kinetic_to_strain_energy"],
            "seconds": time.time() - t0}
     print(f"P={p:5.1f} GPa: in situ {row['in_situ_volume_change_percent']:6.2f} %  residual dV/V0 "
           f"{row['residual_volume_change_percent']:6.2f} %  drho/rho0 {row['residual_density_change_percent']:6.2f} % "
           f"(Ji {row['ji_envelope_density_change_percent']:5.2f} %)  densified {row['densified_bond_fraction']:.3f} "
-          f"saturated {row['saturated_bond_fraction']:.3f}  ({row['seconds']:.0f} s)", flush=True)
+          f"saturated {row['saturated_bond_fraction']:.3f} (surface {row['surface_densified_bond_fraction']:.3f}, "
+          f"interior {row['interior_densified_bond_fraction']:.3f}; interior dV/V0 "
+          f"{row['interior_residual_volume_change_percent']:.2f} %)  ({row['seconds']:.0f} s)", flush=True)
     return row
 
 
