@@ -131,6 +131,93 @@ inline BeamKinematics beamKinematics(const Vec3& xi, const Vec3& xj, const Quat&
     return k;
 }
 
+// ---- two bonds at once (SSE2 lanes) -------------------------------------------------------------------------
+// beamKinematicsSmallAngles2 evaluates the kinematics of two bonds in the two lanes of SSE2 vectors (GCC vector
+// extension: every operation is element-wise, so a lane's result never depends on the other lane). The
+// formulas are those of beamKinematics in the series branch, written out component by component; Eigen's
+// operation order differs (e.g. inside the quaternion products), so a lane agrees with beamKinematics to
+// round-off, not bit for bit. Determinism does not need more: which path a bond takes depends only on that
+// bond (its angles' range), never on the thread split.
+using Lane2 = double __attribute__((vector_size(16)));
+
+struct Vec3x2 {
+    Lane2 x, y, z;
+};
+struct Quatx2 {
+    Lane2 w, x, y, z;
+};
+
+inline Vec3x2 cross2(const Vec3x2& a, const Vec3x2& b) noexcept {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline Lane2 dot2(const Vec3x2& a, const Vec3x2& b) noexcept { return a.x * b.x + a.y * b.y + a.z * b.z; }
+/// q v q*, as Eigen's _transformVector: t = 2 q.vec × v; v + w t + q.vec × t.
+inline Vec3x2 rotate2(const Quatx2& q, const Vec3x2& v) noexcept {
+    const Vec3x2 u{q.x, q.y, q.z};
+    Vec3x2 t = cross2(u, v);
+    t = {2.0 * t.x, 2.0 * t.y, 2.0 * t.z};
+    const Vec3x2 c = cross2(u, t);
+    return {v.x + q.w * t.x + c.x, v.y + q.w * t.y + c.y, v.z + q.w * t.z + c.z};
+}
+inline Quatx2 mul2(const Quatx2& a, const Quatx2& b) noexcept {
+    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z, a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x};
+}
+inline Lane2 atanOverArgSeries2(Lane2 x) noexcept {
+    const Lane2 x2 = x * x;
+    const Lane2 x4 = x2 * x2;
+    const Lane2 q01 = -1.0 / 3.0 + x * (1.0 / 5.0);
+    const Lane2 q23 = -1.0 / 7.0 + x * (1.0 / 9.0);
+    const Lane2 q45 = -1.0 / 11.0 + x * (1.0 / 13.0);
+    const Lane2 q67 = -1.0 / 15.0 + x * (1.0 / 17.0);
+    const Lane2 q = (q01 + x2 * q23) + x4 * (q45 + x2 * q67);
+    return 1.0 + x * q;
+}
+
+/// Kinematics of two bonds (inputs: lane l = bond l); returns per lane whether all three angles are in the
+/// series range (then `k[l]` is valid; otherwise the caller must use beamKinematics for that bond).
+inline void beamKinematicsSmallAngles2(const Vec3x2& xi, const Vec3x2& xj, const Quatx2& qi, const Quatx2& qj,
+                                       const Vec3x2& ai, const Vec3x2& aj, const Quatx2& ref, Lane2 rest_length,
+                                       BeamKinematics k[2], bool ok[2]) noexcept {
+    const Vec3x2 d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
+    Lane2 length;
+    const Lane2 d2 = dot2(d, d);
+    length[0] = std::sqrt(d2[0]);
+    length[1] = std::sqrt(d2[1]);
+    const Lane2 inv_length = 1.0 / length;
+    const Vec3x2 mi = rotate2(qi, ai);
+    const Vec3x2 mj = rotate2(qj, aj);
+    const Vec3x2 ci = cross2(d, mi);
+    const Vec3x2 cj = cross2(d, mj);
+    const Lane2 s2i = dot2(ci, ci);
+    const Lane2 s2j = dot2(cj, cj);
+    const Lane2 cos_i = dot2(d, mi);
+    const Lane2 cos_j = dot2(d, mj);
+    const Lane2 den_i = length + cos_i;
+    const Lane2 den_j = length + cos_j;
+    const Lane2 inv_i = 1.0 / den_i;
+    const Lane2 inv_j = 1.0 / den_j;
+    const Lane2 fi = 2.0 * inv_i * atanOverArgSeries2(s2i * (inv_i * inv_i));
+    const Lane2 fj = 2.0 * inv_j * atanOverArgSeries2(s2j * (inv_j * inv_j));
+    const Quatx2 conj_qi{qi.w, -qi.x, -qi.y, -qi.z};
+    const Quatx2 rel = mul2(mul2(qj, ref), conj_qi);
+    const Lane2 along = rel.x * d.x + rel.y * d.y + rel.z * d.z;
+    const Lane2 w = length * rel.w;
+    const Lane2 tau = along / w;
+    const Lane2 twist = 2.0 * tau * atanOverArgSeries2(tau * tau);
+    for (int l = 0; l < 2; ++l) {
+        k[l].length = length[l];
+        k[l].axis = Vec3(d.x[l] * inv_length[l], d.y[l] * inv_length[l], d.z[l] * inv_length[l]);
+        k[l].stretch = length[l] - rest_length[l];
+        k[l].theta_i = Vec3(fi[l] * ci.x[l], fi[l] * ci.y[l], fi[l] * ci.z[l]);
+        k[l].theta_j = Vec3(fj[l] * cj.x[l], fj[l] * cj.y[l], fj[l] * cj.z[l]);
+        k[l].twist = twist[l];
+        ok[l] = cos_i[l] > 0.0 && s2i[l] <= kAtanSeriesLimit * (den_i[l] * den_i[l]) && cos_j[l] > 0.0 &&
+                s2j[l] <= kAtanSeriesLimit * (den_j[l] * den_j[l]) && w[l] != 0.0 &&
+                along[l] * along[l] <= kAtanSeriesLimit * (w[l] * w[l]);
+    }
+}
+
 /// The Euler–Bernoulli cohesive beam law (paper eqs 1–4, see file header). Circular section of radius r:
 /// S = π r², I = π r⁴/4, I₀ = π r⁴/2 (reference note §2.1).
 struct EulerBernoulliBeam {

@@ -79,41 +79,77 @@ EulerBernoulliBeam densify(const DensificationLaw& law, const DensificationView&
     return EulerBernoulliBeam::make(d.young[k], d.shear[k], d.section_radius[k], l0);
 }
 
+/// The inputs of bonds k0 (lane 0) and k1 (lane 1) in SSE2 lanes.
+inline void kinematicsOf2(const BondView& b, const ParticleView& p, std::size_t k0, std::size_t k1,
+                          BeamKinematics kin[2], bool ok[2]) {
+    const std::size_t i0 = static_cast<std::size_t>(b.i[k0]);
+    const std::size_t j0 = static_cast<std::size_t>(b.j[k0]);
+    const std::size_t i1 = static_cast<std::size_t>(b.i[k1]);
+    const std::size_t j1 = static_cast<std::size_t>(b.j[k1]);
+    const auto v3 = [](const double* a, std::size_t m, std::size_t n) {
+        return Vec3x2{Lane2{a[3 * m], a[3 * n]}, Lane2{a[3 * m + 1], a[3 * n + 1]}, Lane2{a[3 * m + 2], a[3 * n + 2]}};
+    };
+    const auto q4 = [](const double* a, std::size_t m, std::size_t n) {
+        return Quatx2{Lane2{a[4 * m], a[4 * n]}, Lane2{a[4 * m + 1], a[4 * n + 1]}, Lane2{a[4 * m + 2], a[4 * n + 2]},
+                      Lane2{a[4 * m + 3], a[4 * n + 3]}};
+    };
+    beamKinematicsSmallAngles2(v3(p.position, i0, i1), v3(p.position, j0, j1), q4(p.orientation, i0, i1),
+                               q4(p.orientation, j0, j1), v3(b.axis_i, k0, k1), v3(b.axis_j, k0, k1),
+                               q4(b.twist_ref, k0, k1), Lane2{b.rest_length[k0], b.rest_length[k1]}, kin, ok);
+}
+
+/// Everything after the kinematics for bond k: densification, the beam law, dashpots, the store.
+template <bool Viscous, int Densify>
+inline void finishBond(const BondView& b, const ParticleView& p, double damping_ratio, const DensificationLaw* dlaw,
+                       const DensificationView* dview, std::size_t k, BeamKinematics kin) {
+    EulerBernoulliBeam law{};
+    if constexpr (Densify > 0) {
+        law = densify<Densify == 2>(*dlaw, *dview, p, b, k, kin);
+    } else {
+        law = lawOf(b, k);
+    }
+    BeamLoads loads = law.evaluate(kin);
+    if constexpr (Viscous) {
+        const std::size_t i = static_cast<std::size_t>(b.i[k]);
+        const std::size_t j = static_cast<std::size_t>(b.j[k]);
+        const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+        const double j_eff = p.inertia[i] * p.inertia[j] / (p.inertia[i] + p.inertia[j]);
+        const double c_axial = damping_ratio * 2.0 * std::sqrt(m_eff * law.axial_stiffness);
+        const double c_rot = damping_ratio * 2.0 * std::sqrt(j_eff * 2.0 * law.bending_stiffness);
+        const double axial_rate = (load3(p.velocity, j) - load3(p.velocity, i)).dot(kin.axis);
+        const Vec3 spin_rate = load3(p.angular_velocity, j) - load3(p.angular_velocity, i);
+        loads.force_i += (c_axial * axial_rate) * kin.axis;
+        loads.torque_i += c_rot * spin_rate;
+        loads.torque_j -= c_rot * spin_rate;
+    }
+    store3(b.force, k, loads.force_i);
+    store3(b.torque_i, k, loads.torque_i);
+    store3(b.torque_j, k, loads.torque_j);
+}
+
 /// Viscous: bond-viscous dashpots. Densify: 0 none, 1 slider, 2 slider + property evolution.
+/// Bonds in fixed pairs (2m, 2m + 1; an odd last bond is paired with itself): kinematics of both in SSE2 lanes
+/// (beamKinematicsSmallAngles2), the rest per bond. A broken bond or one with an angle outside the series
+/// range takes the general path, decided per bond, so results do not depend on the thread count.
 template <bool Viscous, int Densify = 0>
 void beamLoadsLoop(const BondView& b, const ParticleView& p, double damping_ratio,
                    const DensificationLaw* dlaw = nullptr, const DensificationView* dview = nullptr) {
-    parallelFor(Densify ? "bonds.beam_loads+densification" : "bonds.beam_loads", b.n, [&](std::size_t k) {
-        if (b.broken[k]) {
-            store3(b.force, k, Vec3::Zero());
-            store3(b.torque_i, k, Vec3::Zero());
-            store3(b.torque_j, k, Vec3::Zero());
-            return;
+    parallelFor(Densify ? "bonds.beam_loads+densification" : "bonds.beam_loads", (b.n + 1) / 2, [&](std::size_t m) {
+        const std::size_t k0 = 2 * m;
+        const std::size_t k1 = k0 + 1 < b.n ? k0 + 1 : k0;
+        BeamKinematics kin[2];
+        bool ok[2];
+        kinematicsOf2(b, p, k0, k1, kin, ok);
+        for (int l = 0; l < (k1 == k0 ? 1 : 2); ++l) {
+            const std::size_t k = l == 0 ? k0 : k1;
+            if (b.broken[k]) {
+                store3(b.force, k, Vec3::Zero());
+                store3(b.torque_i, k, Vec3::Zero());
+                store3(b.torque_j, k, Vec3::Zero());
+                continue;
+            }
+            finishBond<Viscous, Densify>(b, p, damping_ratio, dlaw, dview, k, ok[l] ? kin[l] : kinematicsOf(b, p, k));
         }
-        BeamKinematics kin = kinematicsOf(b, p, k);
-        EulerBernoulliBeam law{};
-        if constexpr (Densify > 0) {
-            law = densify<Densify == 2>(*dlaw, *dview, p, b, k, kin);
-        } else {
-            law = lawOf(b, k);
-        }
-        BeamLoads loads = law.evaluate(kin);
-        if constexpr (Viscous) {
-            const std::size_t i = static_cast<std::size_t>(b.i[k]);
-            const std::size_t j = static_cast<std::size_t>(b.j[k]);
-            const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-            const double j_eff = p.inertia[i] * p.inertia[j] / (p.inertia[i] + p.inertia[j]);
-            const double c_axial = damping_ratio * 2.0 * std::sqrt(m_eff * law.axial_stiffness);
-            const double c_rot = damping_ratio * 2.0 * std::sqrt(j_eff * 2.0 * law.bending_stiffness);
-            const double axial_rate = (load3(p.velocity, j) - load3(p.velocity, i)).dot(kin.axis);
-            const Vec3 spin_rate = load3(p.angular_velocity, j) - load3(p.angular_velocity, i);
-            loads.force_i += (c_axial * axial_rate) * kin.axis;
-            loads.torque_i += c_rot * spin_rate;
-            loads.torque_j -= c_rot * spin_rate;
-        }
-        store3(b.force, k, loads.force_i);
-        store3(b.torque_i, k, loads.torque_i);
-        store3(b.torque_j, k, loads.torque_j);
     });
 }
 
