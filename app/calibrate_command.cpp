@@ -253,11 +253,20 @@ public:
                                     ",hold_time=" + exact(fromInternal(o_.hold, time_)) + ",release_time=" +
                                     exact(fromInternal(o_.release, time_)) + "}]");
             const auto t = Clock::now();
-            const nlohmann::json m = runQuietly(run)["measurements"];
+            // A finished run of exactly this scene (same resolved scene text) is reused: an interrupted
+            // calibration resumes where it stopped, and runs made beforehand with the same overrides count.
+            const fs::path done = fs::path(run.out_dir) / "summary.json";
+            const bool reuse = fs::exists(done) && fs::exists(fs::path(run.out_dir) / "resolved_scene.toml") &&
+                               readText((fs::path(run.out_dir) / "resolved_scene.toml").string()) ==
+                                   resolvedSceneToml(readScene(run.scene_path, run.overrides));
+            const nlohmann::json m = (reuse ? readJson(done) : runQuietly(run))["measurements"];
             PressurePoint pt;
             pt.pressure = m["pressure_GPa"].get<double>();
             pt.in_situ = m["in_situ_volume_change"].get<double>();
-            pt.residual = m["residual_volume_change"].get<double>();
+            // The residual volume change the fit sees: of the whole hull, or of the hull of the particles
+            // at least 2 R̄ below the surface (without the surface layer, which densifies first).
+            pt.residual = m[o_.measure == "interior" ? "interior_residual_volume_change" : "residual_volume_change"]
+                              .get<double>();
             pt.density = m["residual_density_change"].get<double>();
             pt.densified = m.value("densified_bond_fraction", 0.0);
             pt.saturated = m.value("saturated_bond_fraction", 0.0);
@@ -357,7 +366,8 @@ int calibrateDensification(const DensificationCalibrateOptions& o) {
     const std::size_t runs = std::count_if(pressures.begin(), pressures.end(), [](double p) { return p > 0.0; });
     log << "vitrum calibrate densification: " << o.scene << ", " << sweep.particles() << " particles (sphere radius "
         << std::setprecision(4) << sweep.radius() << " um), packing seed " << o.seed << "; " << runs
-        << " hydrostatic tests per evaluation (ramp " << o.ramp << ", hold " << o.hold << ", release " << o.release
+        << " hydrostatic tests per evaluation, residual volume of the "
+        << (o.measure == "interior" ? "interior (>= 2 mean radii deep)" : "whole hull") << " (ramp " << o.ramp << ", hold " << o.hold << ", release " << o.release
         << ", rest " << o.rest << " ns)\n"
         << "  targets (Ji): P_d = " << o.target_onset << " +- " << o.tolerances[0] << " GPa, P_s = "
         << o.target_saturation << " +- " << o.tolerances[1] << " GPa, dV/V0 = " << o.target_volume_change << " +- "
@@ -493,7 +503,8 @@ int calibrateDensification(const DensificationCalibrateOptions& o) {
             << "\ntarget_volume_change_percent = " << exact(o.target_volume_change)
             << "\nonset = " << exact(result.response.onset) << "\nsaturation = " << exact(result.response.saturation)
             << "\nvolume_change_percent = " << exact(100.0 * result.response.volume_change)
-            << "\nparticles = " << sweep.particles() << "\nseed = " << o.seed << "\n";
+            << "\nparticles = " << sweep.particles() << "\nseed = " << o.seed << "\nmeasure = \"" << o.measure
+            << "\"   # residual volume change of the whole hull, or of the interior (>= 2 mean radii deep)\n";
     // Only a converged result goes into the file scenes read; otherwise it stays beside the history.
     const std::string target = converged ? output : (fs::path(o.out_dir) / "not-converged.toml").string();
     const std::string text = withDensificationSection(calibration_text, section.str(), target);

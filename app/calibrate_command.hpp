@@ -44,6 +44,7 @@ struct DensificationCalibrateOptions {
     int max_evaluations = 12;
     bool sensitivity = true;            ///< finite differences at the result
     std::vector<double> sensitivity_steps = {0.1, 20.0, 0.2}; ///< +10 % σ, +20 GPa E_t, +20 % ε
+    std::string measure = "hull";       ///< residual volume change of: "hull" (whole sphere) or "interior"
     std::string out_dir = "out/densification-calibration";
     std::string output;                 ///< calibration file to write; "" = the scene's [material] calibration
     int threads = 0;

@@ -115,6 +115,11 @@ int main(int argc, char** argv) {
         ->delimiter(',')->expected(3)->capture_default_str();
     densify_cmd->add_option("--max-evaluations", densify.max_evaluations, "Most parameter sets to evaluate")
         ->capture_default_str()->check(CLI::Range(1, 1000));
+    densify_cmd->add_option("--measure", densify.measure,
+                            "Residual volume change fitted: of the whole hull of the centres (the paper's sphere "
+                            "volume), or of the hull of the interior particles (>= 2 mean radii below the "
+                            "surface: without the surface layer, which densifies first)")
+        ->capture_default_str()->check(CLI::IsMember({"hull", "interior"}));
     densify_cmd->add_flag("--no-sensitivity", no_sensitivity, "Skip the three sensitivity evaluations at the result");
     densify_cmd->add_option("--sensitivity-steps", densify.sensitivity_steps,
                             "Forward steps: relative for sigma_mu^d, GPa for E_mu^t, relative for eps_mu^pmax")

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "io/calibration_io.hpp"
 #include "io/scene_reader.hpp"
 #include "solver/errors.hpp"
 #include "solver/model.hpp"
@@ -29,14 +30,27 @@ void expectMentions(const std::string& message, const std::vector<std::string>& 
 
 const std::string kCalibration = std::string(VITRUM_SOURCE_DIR) + "/examples/calibration/silica.toml";
 
-TEST(DensificationScene, DefaultsAreTable3AndEqsComeFromTheMaterialCalibration) {
+TEST(DensificationScene, DefaultsAreTable3WithoutACalibrationFile) {
+    const Scene s = parseScene("[effects]\nlist = [\"densification\"]\n[densification]\nproperty_evolution = false\n"
+                               "[time]\nduration = 1\n",
+                               "q.toml");
+    EXPECT_EQ(s.densification.yield_stress, 7.13);
+    EXPECT_EQ(s.densification.tangent_modulus, 98.82);
+    EXPECT_EQ(s.densification.max_permanent_strain, 0.067);
+}
+
+TEST(DensificationScene, SliderAndEqsComeFromTheMaterialCalibration) {
     const Scene s = parseScene("[effects]\nlist = [\"densification\"]\n[material]\ncalibration = \"" +
                                    kCalibration + "\"\n[time]\nduration = 1\n",
                                "q.toml");
     ASSERT_TRUE(s.hasEffect("densification"));
-    EXPECT_EQ(s.densification.yield_stress, 7.13);
-    EXPECT_EQ(s.densification.tangent_modulus, 98.82);
-    EXPECT_EQ(s.densification.max_permanent_strain, 0.067);
+    // The slider's parameters: the file's [densification] section (vitrum calibrate densification) when it
+    // has one, else paper Table 3.
+    const CalibrationFile file = readCalibration(kCalibration);
+    const DensificationParameters expected = file.densification.value_or(DensificationParameters{});
+    EXPECT_EQ(s.densification.yield_stress, expected.yield_stress);
+    EXPECT_EQ(s.densification.tangent_modulus, expected.tangent_modulus);
+    EXPECT_EQ(s.densification.max_permanent_strain, expected.max_permanent_strain);
     EXPECT_TRUE(s.densification.property_evolution);
     EXPECT_NE(s.densification.eq5.x(), 0.0);
     EXPECT_GT(s.densification.poisson_max, 0.2);
