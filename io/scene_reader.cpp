@@ -1218,7 +1218,7 @@ void SceneParser::readCoupling(const TableReader& top, Scene& scene) const {
         c.material_source = "calibration of the packing ([material] calibration: the target E, nu its micro-parameters "
                             "reproduce on the fitted eqs 5-6; eq 6 gives E = " +
                             shortest(cal->fit.young(cal->micro.radius_ratio, cal->micro.beam_young)) +
-                            " GPa, rms of the tensile tests about the fit " + shortest(cal->fit.rms_young) + " GPa)";
+                            " GPa)";
     }
     if (auto v = table.number("density", kPositive, "in kg/m^3")) {
         c.density = toInternal(*v, 1e-3);
