@@ -681,7 +681,9 @@ int runScene(const RunOptions& options) {
         phase_total += ph.seconds;
     }
     for (const Phase& ph : step.phases()) {
-        phases[ph.label] = {{"seconds", ph.seconds}, {"share", phase_total > 0 ? ph.seconds / phase_total : 0.0}};
+        // A label may appear twice (coupling.kick, coupling.project: both halves of the step): summed.
+        const double seconds = ph.seconds + (phases.contains(ph.label) ? phases[ph.label]["seconds"].get<double>() : 0.0);
+        phases[ph.label] = {{"seconds", seconds}, {"share", phase_total > 0 ? seconds / phase_total : 0.0}};
     }
     summary["phases"] = phases;
     summary["measurements"] = measurements;
