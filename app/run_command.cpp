@@ -32,6 +32,7 @@
 #include "kernels/parallel.hpp"
 #include "kernels/strain.hpp"
 #include "kernels/timestep.hpp"
+#include "solver/coupling_effect.hpp"
 #include "solver/errors.hpp"
 #include "solver/frequency.hpp"
 #include "solver/fracture.hpp"
@@ -62,6 +63,15 @@ std::string stateSha256(const Particles& p) {
     return h.hexDigest();
 }
 
+/// SHA-256 of the CNEM state bytes (effect coupling): displacement, velocity.
+std::string cnemStateSha256(const CnemModel& m) {
+    Sha256 h;
+    for (const std::vector<double>* field : {&m.displacement, &m.velocity}) {
+        h.update(field->data(), field->size() * sizeof(double));
+    }
+    return h.hexDigest();
+}
+
 std::string dampingName(const Scene& s) {
     if (!s.hasEffect("damping") || s.damping.kind == DampingKind::None) {
         return "none";
@@ -73,14 +83,15 @@ std::string dampingName(const Scene& s) {
 class MapWriter {
 public:
     MapWriter(const fs::path& out, const Scene& scene, const Model& model)
-        : out_(out), pvd_((out / "maps.pvd").string()), fields_(scene.output.fields) {
+        : out_(out), pvd_((out / "maps.pvd").string()), cnem_pvd_((out / "cnem.pvd").string()),
+          fields_(scene.output.fields) {
         coordination_.resize(model.particles.size());
         for (std::size_t i = 0; i < coordination_.size(); ++i) {
             coordination_[i] = model.incidence.degree(i);
         }
     }
 
-    void write(const Model& model, long step, double time) {
+    void write(Model& model, long step, double time) {
         const Particles& p = model.particles;
         displacement_.resize(p.position.size());
         for (std::size_t k = 0; k < p.position.size(); ++k) {
@@ -122,11 +133,30 @@ public:
         writeParticlesVtu((out_ / name).string(), p.size(), p.position.data(), p.radius.data(), views);
         pvd_.add(time, name);
         pvd_.write();
+        if (model.coupling) {
+            // Effect coupling: the CNEM continuum as a second series (its domain tetrahedra, deformed), with
+            // displacement, velocity, smoothed strain and stress, and the partition weight α_c per node.
+            CoupledContinuum& c = *model.coupling;
+            cnemMapFields(c, cnem_fields_);
+            const std::vector<FieldView> cnem_views = {
+                {"displacement_um", 3, c.cnem.displacement.data()},
+                {"velocity_km_per_s", 3, c.cnem.velocity.data()},
+                {"strain", 6, cnem_fields_.strain.data()},
+                {"stress_GPa", 6, cnem_fields_.stress.data()},
+                {"weight_alpha_c", 1, cnem_fields_.weight.data()}};
+            std::snprintf(name, sizeof name, "maps/cnem_%08ld.vtu", step);
+            writeTetsVtu((out_ / name).string(), c.cnem.nodes(), cnem_fields_.position.data(),
+                         c.cnem.mesh.tetCount(), c.cnem.mesh.tet.data(), cnem_views);
+            cnem_pvd_.add(time, name);
+            cnem_pvd_.write();
+        }
     }
 
 private:
     fs::path out_;
     PvdCollection pvd_;
+    PvdCollection cnem_pvd_;
+    CnemMapFields cnem_fields_;
     std::vector<std::string> fields_;
     std::vector<double> coordination_;
     std::vector<double> displacement_;
@@ -176,12 +206,22 @@ int runScene(const RunOptions& options) {
     const FrequencyEstimate frequency = highestFrequencyFor(scene, model);
     CriticalTimeStep critical;
     critical.omega = frequency.omega;
+    std::optional<CoupledFrequency> coupled_frequency;
+    if (model.coupling) {
+        // Effect coupling: the partition-weighted DEM (masses and bonds × α_d) and the weighted CNEM; the
+        // constraint only removes motions, so the larger of the two bounds the coupled system.
+        coupled_frequency = coupledHighestFrequency(model);
+        critical.omega = std::max(critical.omega, coupled_frequency->dem);
+    }
     if (model.indenter) {
         // The tool contact adds k_n to a particle's diagonal stiffness: ω² ≤ ω_bonds² + k_n/m_min (Weyl).
-        critical.omega = std::sqrt(frequency.omega * frequency.omega + toolContactOmegaSquared(*model.indenter, model));
+        critical.omega = std::sqrt(critical.omega * critical.omega + toolContactOmegaSquared(*model.indenter, model));
     }
     // Contacts (effect contact) add at most contactOmegaSquared to ω_max² (Weyl's inequality; solver/fracture.hpp).
     critical.omega = std::sqrt(critical.omega * critical.omega + contactOmegaSquared(scene, model));
+    if (coupled_frequency) {
+        critical.omega = std::max(critical.omega, coupled_frequency->cnem);
+    }
     critical.dt = critical.omega > 0.0 ? 2.0 / critical.omega : 0.0;
     if (!(critical.dt > 0.0)) {
         throw InputError(scene.source_path + ": the sample has no bonds; the time step cannot be estimated "
@@ -221,6 +261,23 @@ int runScene(const RunOptions& options) {
                 << ", k_t/k_n = " << scene.contact.tangential_ratio << ", mu = " << law.friction << ", skin "
                 << model.contacts.skin << " um; adds omega_c = " << std::sqrt(contactOmegaSquared(scene, model))
                 << " rad/ns to the time-step bound (beams: " << frequency.omega << " rad/ns)";
+        }
+        if (model.coupling) {
+            const CoupledContinuum& c = *model.coupling;
+            const CouplingParams& cp = scene.coupling;
+            log << "\n  coupling   CNEM box " << cp.box << " um minus the ball r < " << c.cavity_radius << " um: "
+                << c.cnem.nodes() << " nodes (h = " << c.spacing << " um), " << c.cnem.mesh.tetCount()
+                << " tets, beta = " << cp.stabilisation << "; bottom clamped (" << c.clamped_nodes << " nodes), lateral faces "
+                << cp.lateral << "\n             continuum E = " << c.cnem.material.young << " GPa, nu = "
+                << c.cnem.material.poisson << " (" << cp.material_source << "), rho = " << c.cnem.material.density * 1e3
+                << " kg/m^3 (" << (cp.density > 0.0 ? "explicit" : "measured on the packing: sum m_i / V")
+                << ")\n             bridging zone " << c.cavity_radius << " <= r <= " << model.sample.radius << " um ("
+                << cp.profile << " weights): " << c.report.bridging_particles << " bridging particles, "
+                << c.report.bonds_in_zone << " bonds in the zone (" << c.report.kinked_bonds
+                << " cut off their midpoint), " << c.report.multipliers << " multipliers; built in "
+                << c.build_seconds << " s\n             omega: weighted DEM " << coupled_frequency->dem
+                << " rad/ns (unweighted " << frequency.omega << "), weighted CNEM " << coupled_frequency->cnem
+                << " rad/ns (" << coupled_frequency->cnem_iterations << " iterations); the step takes the larger";
         }
         log << "\n  effects    ";
         for (std::size_t k = 0; k < scene.effects.size(); ++k) {
@@ -292,6 +349,9 @@ int runScene(const RunOptions& options) {
         hydrostatic = hydrostaticGauge(model);
         columns.insert(columns.end(), {"pressure_GPa", "hull_volume_um3"});
     }
+    if (model.coupling) {
+        columns.insert(columns.end(), {"cnem_kinetic_energy_nJ", "constraint_residual_m_per_s"});
+    }
     struct UniaxialSample {
         double stress, strain, extensometer, lateral;
     };
@@ -333,6 +393,11 @@ int runScene(const RunOptions& options) {
         if (hydrostatic) {
             hydrostatic->sample(model, time);
             row.insert(row.end(), {model.loads[0].params.pressureAt(time), hydrostatic->volume(model)});
+        }
+        if (model.coupling) {
+            CoupledContinuum& c = *model.coupling;
+            row.insert(row.end(), {cnemKineticEnergy(c.bridge.cnemState(c.cnem)),
+                                   constraintResidual(model.particles, c.cnem, c.bridge) * 1e3});
         }
         series.row(row);
     };
@@ -383,6 +448,20 @@ int runScene(const RunOptions& options) {
         }
         model.incidence = Incidence::build(model.particles.size(), model.bonds);
         model.contacts.restore(meta.contacts); // effect contact: tangential springs, onto a rebuilt list
+        if (model.coupling) {
+            // Effect coupling: the CNEM state (the bridge is rebuilt from the reference configuration).
+            CnemModel& m = model.coupling->cnem;
+            const std::size_t n3 = 3 * m.nodes();
+            if (meta.cnem_state.size() != 3 * n3) {
+                throw InputError(options.restart + ": checkpoint without the CNEM state of effect coupling (" +
+                                 std::to_string(meta.cnem_state.size()) + " values, expected " +
+                                 std::to_string(3 * n3) + ")");
+            }
+            std::copy(meta.cnem_state.begin(), meta.cnem_state.begin() + static_cast<long>(n3), m.displacement.begin());
+            std::copy(meta.cnem_state.begin() + static_cast<long>(n3), meta.cnem_state.begin() + static_cast<long>(2 * n3),
+                      m.velocity.begin());
+            std::copy(meta.cnem_state.begin() + static_cast<long>(2 * n3), meta.cnem_state.end(), m.force.begin());
+        }
         first = static_cast<long>(meta.step) + 1;
         ctx.time = meta.time;
         if (verbose) {
@@ -410,9 +489,18 @@ int runScene(const RunOptions& options) {
     const long checkpoint_every = scene.output.checkpoints > 0 ? std::max(1L, steps / scene.output.checkpoints) : 0;
     const std::string checkpoint_path = (out / "state.h5").string();
     auto checkpoint = [&](long n) {
-        writeCheckpoint(checkpoint_path, model.particles, model.bonds, model.contacts,
-                        CheckpointMeta{n, ctx.time, dt, scene.name, scene_sha256, kVersion,
-                                       model.indenter ? model.indenter->state() : std::vector<double>{}});
+        CheckpointMeta meta;
+        meta.step = n;
+        meta.time = ctx.time;
+        meta.dt = dt;
+        meta.scene_name = scene.name;
+        meta.scene_sha256 = scene_sha256;
+        meta.vitrum_version = kVersion;
+        meta.controller = model.indenter ? model.indenter->state() : std::vector<double>{};
+        if (model.coupling) {
+            meta.cnem_state = cnemCheckpointState(*model.coupling);
+        }
+        writeCheckpoint(checkpoint_path, model.particles, model.bonds, model.contacts, std::move(meta));
     };
     auto watch = [&](long n) {
         try {
@@ -558,6 +646,46 @@ int runScene(const RunOptions& options) {
         }
         measurements["stages_complete"] = stages_complete;
     }
+    nlohmann::ordered_json coupling_json;
+    if (model.coupling) {
+        CoupledContinuum& c = *model.coupling;
+        const ZoneInelasticity z = zoneInelasticity(c.bridge, model.particles, model.bonds);
+        double phase_seconds = 0.0;
+        for (const Phase& ph : step.phases()) {
+            phase_seconds += ph.seconds;
+        }
+        const long steps_run = last_step - first + 1;
+        coupling_json = {
+            {"cnem_nodes", c.cnem.nodes()},
+            {"cnem_tets", c.cnem.mesh.tetCount()},
+            {"cnem_spacing_um", c.spacing},
+            {"box_um", scene.coupling.box},
+            {"zone_inner_um", c.cavity_radius},
+            {"zone_outer_um", model.sample.radius},
+            {"profile", scene.coupling.profile},
+            {"lateral_faces", scene.coupling.lateral},
+            {"continuum_young_modulus_GPa", c.cnem.material.young},
+            {"continuum_poisson_ratio", c.cnem.material.poisson},
+            {"continuum_density_kg_per_m3", c.cnem.material.density * 1e3},
+            {"measured_packing_density_kg_per_m3", c.measured_density * 1e3},
+            {"material_source", scene.coupling.material_source},
+            {"bridging_particles", c.report.bridging_particles},
+            {"bonds_in_zone", c.report.bonds_in_zone},
+            {"bonds_cut_off_midpoint", c.report.kinked_bonds},
+            {"multipliers", c.report.multipliers},
+            {"build_s", c.build_seconds},
+            {"omega_weighted_dem_rad_per_ns", coupled_frequency->dem},
+            {"omega_weighted_cnem_rad_per_ns", coupled_frequency->cnem},
+            {"dt_critical_cnem_ns", 2.0 / coupled_frequency->cnem},
+            {"cnem_task_s", c.cnem_task_seconds},
+            {"cnem_task_share_of_step", phase_seconds > 0.0 ? c.cnem_task_seconds / phase_seconds : 0.0},
+            {"step_ms", steps_run > 0 ? 1e3 * phase_seconds / static_cast<double>(steps_run) : 0.0},
+            {"final_constraint_residual_m_per_s", constraintResidual(model.particles, c.cnem, c.bridge) * 1e3},
+            {"zone_broken_bonds", z.broken_bonds},
+            {"zone_densified_bonds", z.densified_bonds},
+            {"zone_released_particles", z.released_particles},
+            {"cnem_state_sha256", cnemStateSha256(c.cnem)}};
+    }
 
     const double wall = std::chrono::duration<double>(Clock::now() - wall_start).count();
     nlohmann::ordered_json summary;
@@ -599,10 +727,15 @@ int runScene(const RunOptions& options) {
         phase_total += ph.seconds;
     }
     for (const Phase& ph : step.phases()) {
-        phases[ph.label] = {{"seconds", ph.seconds}, {"share", phase_total > 0 ? ph.seconds / phase_total : 0.0}};
+        // A label may appear twice (coupling.kick, coupling.project: both halves of the step): summed.
+        const double seconds = ph.seconds + (phases.contains(ph.label) ? phases[ph.label]["seconds"].get<double>() : 0.0);
+        phases[ph.label] = {{"seconds", seconds}, {"share", phase_total > 0 ? seconds / phase_total : 0.0}};
     }
     summary["phases"] = phases;
     summary["measurements"] = measurements;
+    if (model.coupling) {
+        summary["coupling"] = coupling_json;
+    }
     summary["restarted_from"] = options.restart.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(options.restart);
     summary["state_sha256"] = stateSha256(model.particles);
     writeFileAtomically((out / "summary.json").string(), summary.dump(2) + "\n");
@@ -615,6 +748,12 @@ int runScene(const RunOptions& options) {
                 << std::setprecision(3) << ph.seconds << " s  " << std::setw(5) << std::setprecision(1)
                 << 100.0 * ph.seconds / std::max(phase_total, 1e-300) << " %\n"
                 << std::defaultfloat;
+        }
+        if (model.coupling) {
+            log << "    (coupling.cnem_forces task: "
+                << std::setprecision(4) << model.coupling->cnem_task_seconds << " s, "
+                << 100.0 * model.coupling->cnem_task_seconds / std::max(phase_total, 1e-300)
+                << " % of the step time)\n";
         }
         log << "  measurements " << measurements.dump() << "\n";
         if (model.indenter) {

@@ -423,6 +423,9 @@ void writeCheckpoint(const std::string& path, const Particles& particles, const 
         writer.store(root, "bonds", bonds);
         writer.store(root, "contacts", meta.contacts);
         writer.vector(root, "controller", meta.controller);
+        if (!meta.cnem_state.empty()) {
+            writer.vector(root, "cnem_state", meta.cnem_state);
+        }
         if (H5Fflush(root, H5F_SCOPE_GLOBAL) < 0 || !file.close()) {
             writer.fail("cannot flush and close '" + tmp + "'");
         }
@@ -508,6 +511,9 @@ CheckpointMeta readCheckpoint(const std::string& path, Particles& particles, Bon
         }
     }
     meta.controller = reader.vector(root, "controller", file_size);
+    if (H5Lexists(root, "cnem_state", H5P_DEFAULT) > 0) { // effect coupling
+        meta.cnem_state = reader.vector(root, "cnem_state", file_size);
+    }
 
     const auto n_particles = static_cast<std::int64_t>(p.size());
     for (std::size_t k = 0; k < b.size(); ++k) {

@@ -7,6 +7,8 @@
 //   /                 attributes: format_version (int32), vitrum_version (string), scene_name (string),
 //                     scene_sha256 (string, 64 hex), step (int64), time (double, ns), dt (double, ns)
 //   /controller       dataset (k) of doubles: the stage controller's state (solver/indentation.hpp), k ≥ 0
+//   /cnem_state       dataset (9N) of doubles, effect coupling only: the CNEM nodal displacement, velocity and
+//                     force (3N each, in that order); absent without the effect
 //   /particles        attribute count (int64); one dataset per field, shape (count, components)
 //   /bonds            attribute count (int64); one dataset per field, shape (count, components)
 // The incidence (CSR) is not stored: the caller rebuilds it from the bonds (Incidence::build).
@@ -36,6 +38,7 @@ struct CheckpointMeta {
     std::string vitrum_version; ///< set by the caller on writing (the driver owns the version string)
     std::vector<double> controller; ///< state of the stage controller (effect indenter; empty otherwise)
     ContactHistory contacts{}; ///< effect contact: the loaded tangential springs, /contacts (optional on reading)
+    std::vector<double> cnem_state; ///< effect coupling: CNEM displacement, velocity, force (3N each); empty otherwise
 };
 
 /// The checkpoint's field table of the particle store: calls `field(name, member, components)` for every

@@ -30,7 +30,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // The 1 + 6 effects of DESIGN.md §4; only the first two have kernels so far.
 const std::vector<std::string> kKnownEffects = {"elasticity", "densification", "fracture", "contact",
                                                 "indenter",   "coupling",      "damping"};
-const std::vector<std::string> kAvailableEffects = {"elasticity", "damping", "densification", "fracture", "contact", "indenter"};
+const std::vector<std::string> kAvailableEffects = {"elasticity", "damping",  "densification", "fracture",
+                                                    "contact",    "indenter", "coupling"};
 const std::vector<std::string> kOutputFields = {"displacement", "velocity",     "force", "angular_velocity",
                                                 "torque",       "coordination", "radius", "densification", "tool", "damage", "stress"};
 
@@ -243,6 +244,7 @@ private:
     void readIndenter(const TableReader& top, Scene& scene) const;
     void readStages(const TableReader& top, Scene& scene) const;
     void readTime(const TableReader& top, Scene& scene) const;
+    void readCoupling(const TableReader& top, Scene& scene) const;
     void readMeasure(const TableReader& top, Scene& scene) const;
     void readOutput(const TableReader& top, Scene& scene) const;
     std::string definedSet(const TableReader& table, std::string_view key, const Scene& scene) const;
@@ -257,6 +259,7 @@ private:
     const toml::node* damping_effect_ = nullptr; ///< the "damping" entry of effects.list, for messages
     const toml::node* densification_effect_ = nullptr; ///< the "densification" entry of effects.list
     const toml::node* indenter_effect_ = nullptr; ///< the "indenter" entry of effects.list
+    const toml::node* coupling_effect_ = nullptr; ///< the "coupling" entry of effects.list
     mutable std::optional<CalibrationFile> material_calibration_; ///< [material] calibration, once read
 };
 
@@ -468,7 +471,8 @@ void SceneParser::applyOverride(toml::table& root, const std::string& assignment
 Scene SceneParser::build(const toml::table& root) {
     const TableReader top(*this, &root, "", "the scene");
     top.allowOnly({"scene", "units", "effects", "sample", "material", "sets", "boundary", "damping", "time",
-                   "measure", "output", "densification", "load", "fracture", "contact", "indenter", "stage"});
+                   "measure", "output", "densification", "load", "fracture", "contact", "indenter", "stage",
+                   "coupling"});
     Scene scene;
     scene.source_path = source_name_;
     readUnits(top, scene); // first: the other tables' numbers are in these units
@@ -493,6 +497,7 @@ Scene SceneParser::build(const toml::table& root) {
     readIndenter(top, scene);
     readStages(top, scene);
     readTime(top, scene);
+    readCoupling(top, scene);
     readMeasure(top, scene);
     readOutput(top, scene);
     return scene;
@@ -535,6 +540,9 @@ void SceneParser::readEffects(const TableReader& top, Scene& scene) {
         }
         if (item.value == "densification") {
             densification_effect_ = item.node;
+        }
+        if (item.value == "coupling") {
+            coupling_effect_ = item.node;
         }
         if (item.value == "indenter") {
             indenter_effect_ = item.node;
@@ -1144,6 +1152,87 @@ void SceneParser::readContact(const TableReader& top, Scene& scene) const {
     c.skin_ratio = table.number("skin_ratio", kPositive, "skin / mean radius").value_or(c.skin_ratio);
 }
 
+void SceneParser::readCoupling(const TableReader& top, Scene& scene) const {
+    const TableReader table = top.subtable("coupling");
+    if (table.table() && !scene.hasEffect("coupling")) {
+        fail(table.table()->source(), "table [coupling] is given but effects.list does not contain \"coupling\" "
+                                      "(expected \"coupling\" in effects.list, or no [coupling] table)");
+    }
+    if (!scene.hasEffect("coupling")) {
+        return;
+    }
+    table.allowOnly({"thickness", "box", "nodes", "profile", "multiplier_tolerance", "stabilisation", "jitter",
+                     "lateral_faces", "young_modulus", "poisson_ratio", "density"});
+    CouplingParams& c = scene.coupling;
+    const toml::source_region& where = table.table() ? table.table()->source() : coupling_effect_->source();
+    // The paper's set-up (§4, Fig 12): the DEM hemisphere under the indented face, in a CNEM box.
+    if (scene.sample.shape != "hemisphere") {
+        fail(where, "effect 'coupling': the coupled domain embeds a hemisphere sample (the paper's §4 set-up), but "
+                    "sample.shape is \"" + scene.sample.shape + "\" (expected sample.shape = \"hemisphere\")");
+    }
+    if (auto v = table.number("thickness", kPositive, "in " + scene.units.length)) {
+        c.thickness = toInternal(*v, length_);
+    }
+    if (auto v = table.number("box", kPositive, "in " + scene.units.length)) {
+        c.box = toInternal(*v, length_);
+    }
+    c.nodes = table.integer("nodes", 100).value_or(c.nodes);
+    c.profile = table.choice("profile", {"linear", "cubic"}).value_or(c.profile);
+    c.multiplier_tolerance =
+        table.number("multiplier_tolerance", Range{0.0, 1.0, true, false}).value_or(c.multiplier_tolerance);
+    c.stabilisation = table.number("stabilisation", Range{0.0, 1.0, false, false}).value_or(c.stabilisation);
+    c.jitter = table.number("jitter", Range{0.0, 0.45, false, false}, "fraction of the node spacing")
+                   .value_or(c.jitter);
+    c.lateral = table.choice("lateral_faces", {"free", "roller"}).value_or(c.lateral);
+    const double R = scene.sample.radius;
+    if (!(c.thickness < R)) {
+        const toml::node* n = table.find("thickness");
+        const std::string text = "key 'coupling.thickness': the bridging zone must lie inside the hemisphere (radius " +
+                                 shortest(R / length_) + " " + scene.units.length + "), got " +
+                                 shortest(c.thickness / length_) + " " + scene.units.length;
+        fail(n ? n->source() : where, text);
+    }
+    if (!(c.box > 2.0 * R)) {
+        const toml::node* n = table.find("box");
+        const std::string text = "key 'coupling.box': the CNEM box must contain the hemisphere with room around it "
+                                 "(expected more than 2 x sample.radius = " + shortest(2.0 * R / length_) + " " +
+                                 scene.units.length + "), got " + shortest(c.box / length_) + " " + scene.units.length;
+        fail(n ? n->source() : where, text);
+    }
+    // The continuum's E and ν: explicit keys, else the calibration of the packing ([material] calibration:
+    // the targets its micro-parameters reproduce on the fitted eqs 5-6). ρ: explicit, else measured on the
+    // packing when the model is built (Σ m_i / V of the hemisphere: the DEM's own mass per volume).
+    const auto young = table.number("young_modulus", kPositive, "in " + scene.units.stress);
+    const auto poisson = table.number("poisson_ratio", Range{-1.0, 0.5, true, true});
+    if (young.has_value() != poisson.has_value()) {
+        const char* missing_key = young ? "poisson_ratio" : "young_modulus";
+        table.missing(missing_key, std::string("a value beside coupling.") + (young ? "young_modulus" : "poisson_ratio") +
+                                       " (give both, or neither to take them from [material] calibration)");
+    }
+    if (young) {
+        c.young = toInternal(*young, stress_);
+        c.poisson = *poisson;
+        c.material_source = "explicit ([coupling] young_modulus, poisson_ratio)";
+    } else {
+        const std::optional<CalibrationFile>& cal = material_calibration_;
+        if (!cal || cal->micro.beam_young != scene.material.beam_young ||
+            cal->micro.radius_ratio != scene.material.radius_ratio) {
+            table.missing("young_modulus",
+                          "the continuum's E and nu: coupling.young_modulus and coupling.poisson_ratio, or "
+                          "[material] calibration with its own micro-parameters (the packing's calibrated E, nu)");
+        }
+        c.young = cal->target_young;
+        c.poisson = cal->target_poisson;
+        c.material_source = "calibration of the packing ([material] calibration: the target E, nu its micro-parameters "
+                            "reproduce on the fitted eqs 5-6; eq 6 gives E = " +
+                            shortest(cal->fit.young(cal->micro.radius_ratio, cal->micro.beam_young)) +
+                            " GPa)";
+    }
+    if (auto v = table.number("density", kPositive, "in kg/m^3")) {
+        c.density = toInternal(*v, 1e-3);
+    }
+}
+
 void SceneParser::readTime(const TableReader& top, Scene& scene) const {
     const TableReader time = top.subtable("time");
     time.allowOnly({"safety_ratio", "duration"});
@@ -1405,6 +1494,22 @@ std::string resolvedSceneToml(const Scene& scene) {
         }
         out << "restitution = " << tomlFloat(c.restitution) << "\ntangential_ratio = " << tomlFloat(c.tangential_ratio)
             << "\nfriction = " << tomlFloat(c.friction) << "\nskin_ratio = " << tomlFloat(c.skin_ratio) << "\n\n";
+    }
+    if (scene.hasEffect("coupling")) {
+        const CouplingParams& c = scene.coupling;
+        out << "[coupling]   # continuum E, nu: " << c.material_source << "\nthickness = " << fileFloat(c.thickness, length)
+            << " # " << u.length << "\nbox = " << fileFloat(c.box, length) << " # " << u.length
+            << "\nnodes = " << c.nodes << "\nprofile = " << tomlString(c.profile)
+            << "\nmultiplier_tolerance = " << tomlFloat(c.multiplier_tolerance)
+            << "\nstabilisation = " << tomlFloat(c.stabilisation) << "\njitter = " << tomlFloat(c.jitter)
+            << "\nlateral_faces = " << tomlString(c.lateral) << "\nyoung_modulus = " << fileFloat(c.young, stress)
+            << " # " << u.stress << "\npoisson_ratio = " << tomlFloat(c.poisson) << "\n";
+        if (c.density > 0.0) {
+            out << "density = " << fileFloat(c.density, 1e-3) << " # kg/m^3\n";
+        } else {
+            out << "# density: measured on the packing (sum of particle masses / hemisphere volume)\n";
+        }
+        out << "\n";
     }
     out << "[time]\nsafety_ratio = " << tomlFloat(scene.time.safety_ratio)
         << "\nduration = " << fileFloat(scene.time.duration, time) << " # " << u.time << "\n\n";

@@ -140,6 +140,33 @@ void writeBondsVtu(const std::string& path, std::size_t n_particles, const doubl
     writeGrid(path, grid);
 }
 
+void writeTetsVtu(const std::string& path, std::size_t n_points, const double* positions, std::size_t n_tets,
+                  const std::int32_t* tets, std::span<const FieldView> point_fields) {
+    if (n_tets > 0 && tets == nullptr)
+        fail(path, "no tetrahedra");
+    vtkNew<vtkUnstructuredGrid> grid;
+    grid->SetPoints(toVtkPoints(path, n_points, positions));
+    vtkNew<vtkIdTypeArray> connectivity;
+    connectivity->SetNumberOfTuples(static_cast<vtkIdType>(4 * n_tets));
+    for (std::size_t k = 0; k < 4 * n_tets; ++k) {
+        if (tets[k] < 0 || static_cast<std::size_t>(tets[k]) >= n_points)
+            fail(path, "tetrahedron " + std::to_string(k / 4) + " refers to node " + std::to_string(tets[k]) +
+                           " of " + std::to_string(n_points));
+        connectivity->SetValue(static_cast<vtkIdType>(k), tets[k]);
+    }
+    vtkNew<vtkCellArray> cells;
+    if (!cells->SetData(4, connectivity))
+        fail(path, "cannot build tetrahedral cells");
+    grid->SetCells(VTK_TETRA, cells);
+    vtkPointData* point_data = grid->GetPointData();
+    for (const FieldView& field : point_fields) {
+        if (point_data->HasArray(field.name.c_str()))
+            fail(path, "duplicate field name '" + field.name + "'");
+        point_data->AddArray(toVtkArray(path, field, n_points));
+    }
+    writeGrid(path, grid);
+}
+
 PvdCollection::PvdCollection(std::string path) : path_(std::move(path)) {}
 
 void PvdCollection::add(double time, const std::string& relative_file) {

@@ -26,6 +26,13 @@ void writeBondsVtu(const std::string& path, std::size_t n_particles, const doubl
                    std::size_t n_bonds, const std::int32_t* i, const std::int32_t* j,
                    std::span<const FieldView> bond_fields);
 
+/// Writes a tetrahedral mesh (the CNEM continuum of effect coupling: its domain tetrahedra) as VTK_TETRA
+/// cells over n_points points with one point-data array per field (n_points x components; a 6-component
+/// array is a symmetric tensor XX YY ZZ XY YZ XZ in ParaView). Throws RuntimeFailure naming `path` on an
+/// index out of range, bad field views or a failed write.
+void writeTetsVtu(const std::string& path, std::size_t n_points, const double* positions, std::size_t n_tets,
+                  const std::int32_t* tets, std::span<const FieldView> point_fields);
+
 /// The .pvd index ParaView opens to play the snapshots as a time series. write() rewrites the whole file
 /// (through a temporary and a rename) so the collection is valid after every snapshot, even if the run dies.
 class PvdCollection {

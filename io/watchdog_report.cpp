@@ -23,6 +23,7 @@ std::string reportInstability(const fs::path& out, CheckpointMeta run, double dt
             run.step = last_good.step;
             run.time = last_good.time;
             run.controller = last_good.controller;
+            run.cnem_state = last_good.cnem_state;
             writeCheckpoint(path.string(), last_good.particles, last_good.bonds, last_good.contacts, run);
             s << "\n  wrote the last good state (step " << last_good.step << ", t = " << last_good.time << " ns) to "
               << path.string() << " (a checkpoint: --restart continues from it)";

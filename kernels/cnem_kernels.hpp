@@ -103,5 +103,9 @@ void cnemKickDrift(const CnemStateView& s, double half_dt, double dt);
 void cnemDrift(const CnemStateView& s, double dt);
 /// Kinetic energy ½ Σ m v² (nJ), deterministic reduction.
 double cnemKineticEnergy(const CnemStateView& s);
+/// Cundall's local non-viscous damping of the nodal forces, f −= α |f| sign(v) per free DOF (the DEM's
+/// `cundallLocalDamping` on the continuum: a coupled run damps both models alike). Fixed DOFs untouched.
+void cnemCundallDamping(std::size_t nodes, const double* velocity, const std::uint8_t* fixed, double alpha,
+                        double* force);
 
 } // namespace vitrum

@@ -67,6 +67,8 @@ void KernelTimers::reset() {
     keys_.clear();
 }
 
+bool inParallelRegion() { return omp_in_parallel() != 0; }
+
 int threadCount() { return omp_get_max_threads(); }
 
 void setThreadCount(int n) {

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -58,14 +59,69 @@ void setThreadCount(int n);
 /// Reduction chunk: fixed, so that partial sums do not depend on the thread count.
 inline constexpr std::size_t kReduceChunk = 2048;
 
-/// Runs body(i) for i in [0, n) on all threads (static schedule).
+/// Grain of the tasks a loop becomes inside `concurrently` (indices per task).
+inline constexpr long long kTaskGrain = 4096;
+
+/// True inside the active parallel region of `concurrently` (omp_in_parallel()): loops then become task
+/// loops of the enclosing team instead of opening a nested region.
+bool inParallelRegion();
+
+/// Runs body(i) for i in [0, n) on all threads (static schedule). Inside `concurrently` the loop is an OpenMP
+/// taskloop of fixed grain run by the team's idle threads; each index still writes only its own outputs, so
+/// the result is the same.
 template <class Body>
 void parallelFor(const char* label, std::size_t n, Body&& body) {
     ScopedTimer timer(label);
     const long long count = static_cast<long long>(n);
+    if (inParallelRegion()) {
+#pragma omp taskloop grainsize(kTaskGrain)
+        for (long long i = 0; i < count; ++i) {
+            body(static_cast<std::size_t>(i));
+        }
+        return;
+    }
 #pragma omp parallel for schedule(static)
     for (long long i = 0; i < count; ++i) {
         body(static_cast<std::size_t>(i));
+    }
+}
+
+/// Runs `task` as one OpenMP task concurrently with `body` (run by the encountering thread), in one parallel
+/// region of all threads; the parallelFor/parallelReduce loops inside either become task loops that the idle
+/// threads pick up. Returns when both are done. `task_seconds` receives the wall time spent inside `task`
+/// (measured in the task, so it is the task's own cost whatever it overlapped with). An exception thrown by
+/// either is rethrown here (the task's first). Both must write disjoint data; results are then independent
+/// of the thread count and of the scheduling.
+template <class Task, class Body>
+void concurrently(Task&& task, Body&& body, double& task_seconds) {
+    std::exception_ptr task_error, body_error;
+    double seconds = 0.0;
+#pragma omp parallel shared(task, body, task_error, body_error, seconds)
+#pragma omp single
+    {
+#pragma omp task shared(task, task_error, seconds)
+        {
+            const auto start = std::chrono::steady_clock::now();
+            try {
+                task();
+            } catch (...) {
+                task_error = std::current_exception();
+            }
+            seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        }
+        try {
+            body();
+        } catch (...) {
+            body_error = std::current_exception();
+        }
+#pragma omp taskwait
+    }
+    task_seconds = seconds;
+    if (task_error) {
+        std::rethrow_exception(task_error);
+    }
+    if (body_error) {
+        std::rethrow_exception(body_error);
     }
 }
 
@@ -77,8 +133,7 @@ T parallelReduce(const char* label, std::size_t n, const T& zero, Contribution&&
     const std::size_t chunks = (n + kReduceChunk - 1) / kReduceChunk;
     std::vector<T> partial(chunks, zero);
     const long long count = static_cast<long long>(chunks);
-#pragma omp parallel for schedule(static)
-    for (long long c = 0; c < count; ++c) {
+    auto chunk = [&](long long c) {
         T acc = zero;
         const std::size_t begin = static_cast<std::size_t>(c) * kReduceChunk;
         const std::size_t end = begin + kReduceChunk < n ? begin + kReduceChunk : n;
@@ -86,6 +141,17 @@ T parallelReduce(const char* label, std::size_t n, const T& zero, Contribution&&
             contribution(i, acc);
         }
         partial[static_cast<std::size_t>(c)] = acc;
+    };
+    if (inParallelRegion()) {
+#pragma omp taskloop grainsize(1)
+        for (long long c = 0; c < count; ++c) {
+            chunk(c);
+        }
+    } else {
+#pragma omp parallel for schedule(static)
+        for (long long c = 0; c < count; ++c) {
+            chunk(c);
+        }
     }
     T total = zero;
     for (const T& p : partial) {

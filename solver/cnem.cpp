@@ -118,8 +118,9 @@ void fixCnemNodes(CnemModel& model, const std::vector<std::int32_t>& nodes, std:
 namespace {
 
 /// y = K x (the negative of the internal forces of the displacement x); uses the model's scratch.
-void applyStiffness(CnemModel& model, const std::vector<double>& x, std::vector<double>& y) {
-    cnemInternalForces(model.tables(), model.law, x.data(), y.data());
+void applyStiffness(CnemModel& model, const std::vector<double>& x, std::vector<double>& y,
+                    const CnemView* weighted = nullptr) {
+    cnemInternalForces(weighted ? *weighted : model.tables(), model.law, x.data(), y.data());
     for (double& v : y)
         v = -v;
 }
@@ -133,13 +134,14 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 } // namespace
 
-CnemFrequency cnemHighestFrequency(CnemModel& model, int max_iterations, double tolerance) {
+CnemFrequency cnemHighestFrequency(CnemModel& model, int max_iterations, double tolerance,
+                                   const CnemView* weighted, const double* mass) {
     const std::size_t dofs = 3 * model.nodes();
     std::vector<double> inv_sqrt_m(dofs), x(dofs), z(dofs), y(dofs);
     std::mt19937_64 rng(12345);
     std::uniform_real_distribution<double> uni(-1.0, 1.0);
     for (std::size_t a = 0; a < dofs; ++a) {
-        inv_sqrt_m[a] = model.fixed[a] ? 0.0 : 1.0 / std::sqrt(model.mass[a / 3]);
+        inv_sqrt_m[a] = model.fixed[a] ? 0.0 : 1.0 / std::sqrt((mass ? mass : model.mass.data())[a / 3]);
         x[a] = model.fixed[a] ? 0.0 : uni(rng);
     }
     double norm = std::sqrt(dot(x, x));
@@ -152,7 +154,7 @@ CnemFrequency cnemHighestFrequency(CnemModel& model, int max_iterations, double 
     for (int it = 1; it <= max_iterations; ++it) {
         for (std::size_t a = 0; a < dofs; ++a)
             z[a] = x[a] * inv_sqrt_m[a];
-        applyStiffness(model, z, y);
+        applyStiffness(model, z, y, weighted);
         for (std::size_t a = 0; a < dofs; ++a)
             y[a] *= inv_sqrt_m[a];
         lambda = dot(x, y);

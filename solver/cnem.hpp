@@ -107,7 +107,10 @@ struct CnemFrequency {
     double relative_residual = 0.0;
     double criticalStep() const { return 2.0 / omega; } ///< ns
 };
-CnemFrequency cnemHighestFrequency(CnemModel& model, int max_iterations = 400, double tolerance = 0.01);
+/// `weighted` and `mass` (N) replace the model's tables and lumped mass when given (a coupling's partition-
+/// weighted continuum).
+CnemFrequency cnemHighestFrequency(CnemModel& model, int max_iterations = 400, double tolerance = 0.01,
+                                   const CnemView* weighted = nullptr, const double* mass = nullptr);
 
 /// Static solve K u = f_ext on the free DOFs with the fixed DOFs at their current displacement
 /// (Jacobi-preconditioned conjugate gradient, K applied matrix-free). Returns the iterations; throws

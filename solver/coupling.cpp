@@ -403,10 +403,14 @@ ZoneInelasticity zoneInelasticity(const Bridge& b, const Particles& particles, c
     for (std::size_t k = 0; k < bonds.size(); ++k) {
         if (b.bond_weight[k] >= 1.0)
             continue;
-        if (bonds.broken[k])
-            ++z.broken_bonds;
-        if (densification && bonds.slip[k] != 0.0)
-            ++z.densified_bonds;
+        const bool broken = bonds.broken[k] != 0;
+        const bool densified = densification && bonds.slip[k] != 0.0;
+        z.broken_bonds += broken ? 1 : 0;
+        z.densified_bonds += densified ? 1 : 0;
+        if ((broken || densified) && z.first_bond < 0) {
+            z.first_bond = static_cast<std::int64_t>(k);
+            z.first_weight = b.bond_weight[k];
+        }
     }
     if (particles.fractureEnabled()) {
         for (std::size_t i = 0; i < particles.size(); ++i) {
@@ -420,10 +424,20 @@ ZoneInelasticity zoneInelasticity(const Bridge& b, const Particles& particles, c
 void assertZoneElastic(const Bridge& b, const Particles& particles, const Bonds& bonds) {
     const ZoneInelasticity z = zoneInelasticity(b, particles, bonds);
     if (!z.elastic()) {
+        std::string where;
+        if (z.first_bond >= 0) {
+            const std::size_t k = static_cast<std::size_t>(z.first_bond);
+            const Vec3 mid = 0.5 * (load3(particles.position.data(), static_cast<std::size_t>(bonds.i[k])) +
+                                    load3(particles.position.data(), static_cast<std::size_t>(bonds.j[k])));
+            where = "; the first, bond " + std::to_string(k) + ", at r = " +
+                    std::to_string((mid - b.zone.origin).norm()) + " um, z = " + std::to_string(mid.z()) +
+                    " um (alpha_d = " + std::to_string(z.first_weight) + ")";
+        }
         throw RuntimeFailure(
             "bridging zone is no longer elastic: " + std::to_string(z.broken_bonds) + " broken bonds, " +
             std::to_string(z.densified_bonds) + " densified bonds, " + std::to_string(z.released_particles) +
-            " released particles with α_d < 1 (the CNEM is elastic; move the zone outwards)");
+            " released particles with α_d < 1" + where +
+            " (the CNEM is elastic; move the zone outwards)");
     }
 }
 

@@ -153,6 +153,8 @@ struct ZoneInelasticity {
     std::size_t broken_bonds = 0;       ///< broken bonds with α_d(mid) < 1
     std::size_t densified_bonds = 0;    ///< bonds with slip ≠ 0 and α_d(mid) < 1 (densification enabled)
     std::size_t released_particles = 0; ///< released particles with α_d < 1 (fracture enabled)
+    std::int64_t first_bond = -1;       ///< the first broken or densified bond with α_d(mid) < 1 (−1: none)
+    double first_weight = 1.0;          ///< its α_d(mid)
     bool elastic() const { return broken_bonds == 0 && densified_bonds == 0 && released_particles == 0; }
 };
 ZoneInelasticity zoneInelasticity(const Bridge& bridge, const Particles& particles, const Bonds& bonds);

@@ -2,6 +2,7 @@
 // stores, the named sets and the boundary conditions; behaviour lives in kernels and in the composed step.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,6 +17,8 @@
 #include "solver/surface.hpp"
 
 namespace vitrum {
+
+struct CoupledContinuum; // effect coupling, solver/coupling_effect.hpp
 
 struct NamedSet {
     std::string name;
@@ -50,6 +53,7 @@ struct Model {
     ContactList contacts;     ///< effect contact: neighbour list and pair loads (empty otherwise)
     PointForces point_forces; ///< external point forces of the step (tool contacts) for the eq (10) stress
     std::optional<Indenter> indenter; ///< effect indenter (composeStep builds it)
+    std::shared_ptr<CoupledContinuum> coupling; ///< effect coupling (composeStep builds it)
     SampleParams sample;      ///< geometry the sample was built for (µm)
     double spacing = 0.0;     ///< lattice constant, µm
 

@@ -164,6 +164,26 @@ struct ContactParams {
     double skin_ratio = 0.2;        ///< Verlet skin / mean particle radius
 };
 
+/// Effect `coupling` (reference note cnem-coupling.md §4; solver/coupling_effect.hpp): the DEM hemisphere
+/// embedded in an elastic CNEM box (the paper's §4 / Fig 12 set-up), tied by an Arlequin bridging zone, the
+/// radial shell R − thickness ≤ r ≤ R of the hemisphere (r from the centre of its flat face). The CNEM
+/// domain is the box [−box/2, box/2]² × [−box, 0] minus the ball of radius R − thickness; its bottom face is
+/// clamped, its lateral faces free or on rollers, its top face free.
+struct CouplingParams {
+    double thickness = 2.0;             ///< bridging zone thickness, µm (paper: 2 µm)
+    double box = 30.0;                  ///< CNEM box edge, µm (paper: 30 µm)
+    long nodes = 10000;                 ///< target CNEM node count (paper: ≈ 10 000)
+    std::string profile = "linear";     ///< weight profile: linear | cubic
+    double multiplier_tolerance = 1e-2; ///< a node carries a multiplier above this × the largest support
+    double stabilisation = 0.05;        ///< β of the CNEM's linear-tet stabilisation
+    double jitter = 0.3;                ///< interior node jitter, fraction of the spacing
+    std::string lateral = "free";       ///< CNEM lateral faces: free | roller
+    double young = 0.0;                 ///< continuum E, GPa (resolved: from the calibration or explicit)
+    double poisson = 0.0;               ///< continuum ν
+    double density = 0.0;               ///< continuum ρ, 10³ kg/m³; 0 = measured on the packing (Σm/V)
+    std::string material_source;        ///< where E, ν come from (for the log and summary)
+};
+
 struct TimeParams {
     double safety_ratio = 0.1; ///< Δt = ratio × Δt_crit (kernels/timestep.hpp)
     double duration = 1.0;     ///< ns of simulated time (with stages: the longest the stages may take)
@@ -201,6 +221,7 @@ struct Scene {
     ContactParams contact;             ///< effect contact (on with fracture)
     IndenterParams indenter;          ///< effect indenter
     std::vector<StageParams> stages;  ///< [[stage]], effect indenter
+    CouplingParams coupling;          ///< effect coupling
     TimeParams time;
     MeasureParams measure;
     OutputParams output;

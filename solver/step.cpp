@@ -5,9 +5,13 @@
 
 #include "kernels/bond_kernels.hpp"
 #include "kernels/boundary.hpp"
+#include "kernels/cnem_kernels.hpp"
+#include "kernels/coupling_kernels.hpp"
+#include "kernels/parallel.hpp"
 #include "kernels/indenter.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/pressure.hpp"
+#include "solver/coupling_effect.hpp"
 #include "solver/fracture.hpp"
 
 namespace vitrum {
@@ -65,13 +69,46 @@ DensificationLaw densificationLaw(const Scene& scene) {
     return law;
 }
 
+namespace {
+
+/// Effect coupling: half kick of both models with the weighted masses, then the velocity projection
+/// (the RATTLE form of solver/coupling.hpp stepCoupled). The step's final kick (`measure`) then takes the
+/// watchdog's measures of the projected velocities (a separate reduction: the projection moves them).
+void addCoupledKick(Step& step, bool measure) {
+    step.add("coupling.kick", false, [](StepContext& c) {
+        CoupledContinuum& cc = *c.model.coupling;
+        halfKick(cc.bridge.demView(c.model.particles), c.dt);
+        cnemKick(cc.bridge.cnemState(cc.cnem), 0.5 * c.dt);
+    });
+    step.add("coupling.project", false, [measure](StepContext& c) {
+        CoupledContinuum& cc = *c.model.coupling;
+        projectCoupledVelocities(c.model.particles, cc.cnem, cc.bridge);
+        if (measure) {
+            c.kinetic = kineticEnergy(c.model.particles.view());
+        }
+    });
+}
+
+} // namespace
+
 Step composeStep(const Scene& scene, Model& model) {
     Step step;
-    step.add("integrate.kick_drift", false, [](StepContext& c) {
-        const ParticleView p = c.model.particles.view();
-        halfKick(p, c.dt);
-        drift(p, c.dt);
-    });
+    const bool coupled = scene.hasEffect("coupling");
+    if (coupled) {
+        model.coupling = buildCoupledContinuum(scene, model);
+        addCoupledKick(step, false);
+        step.add("coupling.drift", false, [](StepContext& c) {
+            CoupledContinuum& cc = *c.model.coupling;
+            drift(cc.bridge.demView(c.model.particles), c.dt);
+            cnemDrift(cc.bridge.cnemState(cc.cnem), c.dt);
+        });
+    } else {
+        step.add("integrate.kick_drift", false, [](StepContext& c) {
+            const ParticleView p = c.model.particles.view();
+            halfKick(p, c.dt);
+            drift(p, c.dt);
+        });
+    }
 
     bool any_displacement = false;
     for (const BoundaryCondition& bc : model.boundaries) {
@@ -100,14 +137,25 @@ Step composeStep(const Scene& scene, Model& model) {
             const bool relaxing = !ind.done() && ind.stages[ind.stage].kind == StageKind::Relax;
             double ke = -1.0;
             if (relaxing && std::llround(c.time / c.dt) % 50 == 0) {
-                const KineticEnergy k = kineticEnergy(c.model.particles.view());
-                ke = k.translational + k.rotational;
+                if (c.model.coupling) {
+                    ke = coupledKineticEnergy(c.model); // both weighted models must be at rest
+                } else {
+                    const KineticEnergy k = kineticEnergy(c.model.particles.view());
+                    ke = k.translational + k.rotational;
+                }
             }
             advanceIndenter(ind, c.time, c.dt, ke);
         });
     }
 
     const bool damping = scene.hasEffect("damping");
+    // The bond-load phase of the effects, added below (alone, or beside the CNEM task when coupled).
+    std::string bond_label;
+    std::function<void(StepContext&)> bond_loads;
+    auto addBondPhase = [&](std::string label, bool, std::function<void(StepContext&)> run) {
+        bond_label = std::move(label);
+        bond_loads = std::move(run);
+    };
     if (scene.hasEffect("densification")) {
         // The slider acts in the beam's own pass (one kinematics per bond); its per-bond state is sized here,
         // only for this effect (a restart's checkpoint brings it back filled).
@@ -115,24 +163,48 @@ Step composeStep(const Scene& scene, Model& model) {
         const DensificationLaw law = densificationLaw(scene);
         if (damping && scene.damping.kind == DampingKind::BondViscous) {
             const BondViscousDamping viscous{scene.damping.coefficient};
-            step.add("bonds.beam_loads+densification+viscous", true, [viscous, law](StepContext& c) {
+            addBondPhase("bonds.beam_loads+densification+viscous", true, [viscous, law](StepContext& c) {
                 computeBeamLoads(c.model.bonds.view(), c.model.particles.view(), viscous, law,
                                  c.model.bonds.densificationView());
             });
         } else {
-            step.add("bonds.beam_loads+densification", true, [law](StepContext& c) {
+            addBondPhase("bonds.beam_loads+densification", true, [law](StepContext& c) {
                 computeBeamLoads(c.model.bonds.view(), c.model.particles.view(), law,
                                  c.model.bonds.densificationView());
             });
         }
     } else if (damping && scene.damping.kind == DampingKind::BondViscous) {
         const BondViscousDamping viscous{scene.damping.coefficient};
-        step.add("bonds.beam_loads+viscous", true, [viscous](StepContext& c) {
+        addBondPhase("bonds.beam_loads+viscous", true, [viscous](StepContext& c) {
             computeBeamLoads(c.model.bonds.view(), c.model.particles.view(), viscous);
         });
     } else {
-        step.add("bonds.beam_loads", true,
+        addBondPhase("bonds.beam_loads", true,
                  [](StepContext& c) { computeBeamLoads(c.model.bonds.view(), c.model.particles.view()); });
+    }
+    if (coupled) {
+        // The CNEM force pass as an OpenMP task beside the DEM bond kernels (both write their own arrays);
+        // the DEM loads are then weighted by α_d(mid) before the gather.
+        step.add(bond_label + " | coupling.cnem_forces", true, [bond_loads](StepContext& c) {
+            CoupledContinuum& cc = *c.model.coupling;
+            double task_seconds = 0.0;
+            concurrently(
+                [&cc]() {
+                    CnemModel& m = cc.cnem;
+                    cnemInternalForces(cc.bridge.cnemView(m), m.law, m.displacement.data(), m.force.data());
+                    for (std::size_t a = 0; a < m.force.size(); ++a)
+                        m.force[a] += m.external_force[a];
+                },
+                [&]() {
+                    bond_loads(c);
+                    weightBondLoads(c.model.bonds.view(), cc.bridge.bond_weight.data());
+                },
+                task_seconds);
+            cc.cnem_task_seconds += task_seconds;
+            ++cc.cnem_task_calls;
+        });
+    } else {
+        step.add(bond_label, true, bond_loads);
     }
     step.add("bonds.gather", true, [](StepContext& c) {
         gatherBondLoads(c.model.incidence.view(), c.model.bonds.view(), c.model.particles.view());
@@ -161,11 +233,29 @@ Step composeStep(const Scene& scene, Model& model) {
     addFracturePhases(step, scene, model); // effect fracture: after every force phase (solver/fracture.hpp)
     if (damping && scene.damping.kind == DampingKind::CundallLocal) {
         const double alpha = scene.damping.coefficient;
-        step.add("damping.cundall", true,
-                 [alpha](StepContext& c) { cundallLocalDamping(c.model.particles.view(), alpha); });
+        step.add("damping.cundall", true, [alpha](StepContext& c) {
+            cundallLocalDamping(c.model.particles.view(), alpha);
+            if (c.model.coupling) {
+                CnemModel& m = c.model.coupling->cnem; // the continuum is damped alike
+                cnemCundallDamping(m.nodes(), m.velocity.data(), m.fixed.data(), alpha, m.force.data());
+            }
+        });
     }
-    step.add("integrate.kick", false,
-             [](StepContext& c) { c.kinetic = halfKickAndMeasure(c.model.particles.view(), c.dt); });
+    if (coupled) {
+        addCoupledKick(step, true);
+        if (scene.hasEffect("densification") || scene.hasEffect("fracture")) {
+            // APP-2: the elastic CNEM cannot follow inelasticity in the zone; checked every 50 steps (the
+            // slider's slip and broken bonds are permanent, so nothing is missed, only seen ≤ 49 steps late).
+            step.add("coupling.check_zone", false, [](StepContext& c) {
+                if (std::llround(c.time / c.dt) % 50 == 0) {
+                    assertZoneElastic(c.model.coupling->bridge, c.model.particles, c.model.bonds);
+                }
+            });
+        }
+    } else {
+        step.add("integrate.kick", false,
+                 [](StepContext& c) { c.kinetic = halfKickAndMeasure(c.model.particles.view(), c.dt); });
+    }
     return step;
 }
 

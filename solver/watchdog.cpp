@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "kernels/views.hpp"
+#include "solver/coupling_effect.hpp"
 
 namespace vitrum {
 
@@ -245,6 +246,7 @@ void StateSnapshot::take(const Model& model, long step_, double time_) {
     bonds = model.bonds;
     contacts = model.contacts;
     controller = model.indenter ? model.indenter->state() : std::vector<double>{};
+    cnem_state = model.coupling ? cnemCheckpointState(*model.coupling) : std::vector<double>{};
 }
 
 } // namespace vitrum

@@ -59,6 +59,7 @@ struct StateSnapshot {
     Bonds bonds;
     ContactList contacts;
     std::vector<double> controller; ///< the indenter's stage controller state (empty without the effect)
+    std::vector<double> cnem_state; ///< effect coupling: the CNEM state (CheckpointMeta::cnem_state), else empty
 
     void take(const Model& model, long step_, double time_);
 };

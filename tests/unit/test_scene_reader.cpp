@@ -278,9 +278,9 @@ TEST(SceneReader, EffectsAreCheckedByName) {
     expectMentions(
         errorOf("[effects]\nlist = [\"elasticity\", \"plasticity\"]\n[time]\nduration = 1\n"),
         {"q.toml:2:23:", "key 'effects.list'", "unknown effect \"plasticity\"", "known effects: elasticity"});
-    expectMentions(
-        errorOf("[effects]\nlist = [\"coupling\"]\n[time]\nduration = 1\n"),
-        {"q.toml:2:9:", "key 'effects.list'", "effect 'coupling' is not available yet in this version"});
+    // Every known effect is available now; coupling on a sample it cannot embed says so at its entry.
+    expectMentions(errorOf("[effects]\nlist = [\"coupling\"]\n[time]\nduration = 1\n"),
+                   {"q.toml:2:9:", "effect 'coupling'", "expected sample.shape = \"hemisphere\""});
     expectMentions(errorOf("[effects]\nlist = [\"elasticity\", \"elasticity\"]\n[time]\nduration = 1\n"),
                    {"q.toml:2:23:", "key 'effects.list'", "listed twice", "q.toml:2:9"});
 }
