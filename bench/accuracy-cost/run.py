@@ -232,7 +232,7 @@ def main():
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("cost: CPU time of the run on one thread (s)")
-        ax.set_ylabel(f"error: max |deviation| of V-, Vd, D, L from the finest run ({finest['particles']} particles)")
+        ax.set_ylabel(f"error vs the finest run ({finest['particles']} particles):\nmax |dev| of V-, Vd, D, L")
         ax.set_title(f"What accuracy costs: {os.path.basename(scene)}")
         ax.legend(fontsize=8)
         fig.tight_layout()
