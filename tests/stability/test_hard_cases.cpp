@@ -20,6 +20,8 @@
 namespace vitrum {
 namespace {
 
+using testing::maxBondStrain;
+
 Scene randomBall(long particles, std::uint64_t seed) {
     Scene s;
     s.sample.lattice = "random";
@@ -33,18 +35,6 @@ Scene randomBall(long particles, std::uint64_t seed) {
 
 using testing::agitate;
 using testing::totalEnergy;
-
-/// Largest axial strain |l − l₀|/l₀ over the unbroken bonds: a particle escaping its neighbours (or
-/// passing through one) shows as a large bond strain.
-double maxBondStrain(const Model& m) {
-    double worst = 0.0;
-    for (std::size_t k = 0; k < m.bonds.size(); ++k) {
-        const Vec3 d = load3(m.particles.position.data(), static_cast<std::size_t>(m.bonds.j[k])) -
-                       load3(m.particles.position.data(), static_cast<std::size_t>(m.bonds.i[k]));
-        worst = std::max(worst, std::abs(d.norm() - m.bonds.rest_length[k]) / m.bonds.rest_length[k]);
-    }
-    return worst;
-}
 
 struct Outcome {
     bool detected = false;     ///< the watchdog threw NumericalInstability

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_support.hpp"
+
 #include "io/scene_reader.hpp"
 #include "kernels/bond_kernels.hpp"
 #include "kernels/integrate.hpp"
@@ -21,6 +23,8 @@
 
 namespace vitrum {
 namespace {
+
+using testing::maxBondStrain;
 
 const std::string kScene = std::string(R"([effects]
 list = ["densification"]
@@ -52,16 +56,6 @@ void compressAffinely(Model& m, double factor) {
     for (std::size_t i = 0; i < m.particles.size(); ++i) {
         store3(m.particles.position.data(), i, c + factor * (load3(m.particles.position.data(), i) - c));
     }
-}
-
-double maxBondStrain(const Model& m) {
-    double worst = 0.0;
-    for (std::size_t k = 0; k < m.bonds.size(); ++k) {
-        const Vec3 d = load3(m.particles.position.data(), static_cast<std::size_t>(m.bonds.j[k])) -
-                       load3(m.particles.position.data(), static_cast<std::size_t>(m.bonds.i[k]));
-        worst = std::max(worst, std::abs(d.norm() - m.bonds.rest_length[k]) / m.bonds.rest_length[k]);
-    }
-    return worst;
 }
 
 struct Phase {

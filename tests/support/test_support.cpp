@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <random>
@@ -45,6 +46,17 @@ void agitate(Model& m, unsigned seed, double speed) {
 double totalEnergy(Model& m) {
     const KineticEnergy k = kineticEnergy(m.particles.view());
     return k.translational + k.rotational + beamStrainEnergy(m.bonds.view(), m.particles.view());
+}
+
+double maxBondStrain(const Model& m) {
+    double worst = 0.0;
+    for (std::size_t k = 0; k < m.bonds.size(); ++k) {
+        if (m.bonds.broken[k]) continue;
+        const Vec3 d = load3(m.particles.position.data(), static_cast<std::size_t>(m.bonds.j[k])) -
+                       load3(m.particles.position.data(), static_cast<std::size_t>(m.bonds.i[k]));
+        worst = std::max(worst, std::abs(d.norm() - m.bonds.rest_length[k]) / m.bonds.rest_length[k]);
+    }
+    return worst;
 }
 
 std::string readText(const std::filesystem::path& path) {

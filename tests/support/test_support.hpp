@@ -24,6 +24,10 @@ void agitate(Model& model, unsigned seed, double speed);
 /// Kinetic (translational + rotational) plus beam strain energy, nJ.
 double totalEnergy(Model& model);
 
+/// Largest axial strain |l − l₀|/l₀ over the unbroken bonds: a particle escaping its neighbours (or passing
+/// through one) shows as a large bond strain.
+double maxBondStrain(const Model& model);
+
 /// Reads a whole text file.
 std::string readText(const std::filesystem::path& path);
 
