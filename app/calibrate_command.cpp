@@ -113,16 +113,7 @@ int calibrateElastic(const CalibrateOptions& o) {
                 run.overrides.push_back("material.beam_young_modulus=" + tag(young));
                 run.overrides.push_back("sample.file=\"" + cache + "\"");
                 const auto t0 = Clock::now();
-                std::ostringstream quiet_log;
-                auto* previous = std::cout.rdbuf(quiet_log.rdbuf());
-                try {
-                    runScene(run);
-                } catch (...) {
-                    std::cout.rdbuf(previous);
-                    throw;
-                }
-                std::cout.rdbuf(previous);
-                const nlohmann::json m = readJson(fs::path(run.out_dir) / "summary.json")["measurements"];
+                const nlohmann::json m = runQuietly(run)["measurements"];
                 CalibrationRecord rec;
                 rec.seed = seed;
                 rec.sample = {ratio, young, m["young_modulus_GPa"].get<double>(), m["poisson_ratio"].get<double>()};
