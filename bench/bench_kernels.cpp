@@ -585,45 +585,22 @@ void BM_GatherVsAtomicScatter(benchmark::State& state) {
 constexpr long kMinParticles = 1000;
 constexpr long kMaxParticles = 1000000;
 
+/// The per-kernel size sweep: 10³ … 10⁶ particles by decades, µs, wall time.
+void particleCounts(benchmark::internal::Benchmark* b) {
+    b->RangeMultiplier(10)->Range(kMinParticles, kMaxParticles)->Unit(benchmark::kMicrosecond)->UseRealTime();
+}
+
 } // namespace
 
 BENCHMARK(BM_StreamTriad)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_BeamLoads)
-    ->RangeMultiplier(10)
-    ->Range(kMinParticles, kMaxParticles)
-    ->Unit(benchmark::kMicrosecond)
-    ->UseRealTime();
-BENCHMARK(BM_BeamLoadsViscous)
-    ->RangeMultiplier(10)
-    ->Range(kMinParticles, kMaxParticles)
-    ->Unit(benchmark::kMicrosecond)
-    ->UseRealTime();
-BENCHMARK(BM_Gather)
-    ->RangeMultiplier(10)
-    ->Range(kMinParticles, kMaxParticles)
-    ->Unit(benchmark::kMicrosecond)
-    ->UseRealTime();
-BENCHMARK(BM_Integrate)
-    ->RangeMultiplier(10)
-    ->Range(kMinParticles, kMaxParticles)
-    ->Unit(benchmark::kMicrosecond)
-    ->UseRealTime();
-BENCHMARK(BM_FullStep)
-    ->RangeMultiplier(10)
-    ->Range(kMinParticles, kMaxParticles)
-    ->Unit(benchmark::kMicrosecond)
-    ->UseRealTime();
+BENCHMARK(BM_BeamLoads)->Apply(particleCounts);
+BENCHMARK(BM_BeamLoadsViscous)->Apply(particleCounts);
+BENCHMARK(BM_Gather)->Apply(particleCounts);
+BENCHMARK(BM_Integrate)->Apply(particleCounts);
+BENCHMARK(BM_FullStep)->Apply(particleCounts);
 BENCHMARK(BM_PeakFlops)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_BeamLoadsDensified)
-    ->RangeMultiplier(10)
-    ->Range(kMinParticles, kMaxParticles)
-    ->Unit(benchmark::kMicrosecond)
-    ->UseRealTime();
-BENCHMARK(BM_FullStepDensified)
-    ->RangeMultiplier(10)
-    ->Range(kMinParticles, kMaxParticles)
-    ->Unit(benchmark::kMicrosecond)
-    ->UseRealTime();
+BENCHMARK(BM_BeamLoadsDensified)->Apply(particleCounts);
+BENCHMARK(BM_FullStepDensified)->Apply(particleCounts);
 BENCHMARK(BM_GatherVsAtomicScatter)
     ->ArgNames({"n", "variant"})
     ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2, 3, 4, 5}})
