@@ -45,6 +45,9 @@ CrackParams crackParams(const Model& model, double mean_radius, double contact_r
     cp.axis = model.indenter->tip; // the load axis passes through the tip (x, y)
     cp.surface = model.indenter->surface_level;
     cp.contact_radius = contact_radius;
+    if (model.indenter->tool.kind == ToolKind::Vickers) {
+        cp.square_half_side = contact_radius / std::sqrt(2.0); // the farthest contact point is a print corner
+    }
     cp.band = 3.0 * mean_radius;
     return cp;
 }
@@ -128,6 +131,15 @@ std::string CrackSnapshots::observe(const Model& model, long step, double time) 
         return snapshot("full_load", classifyReleased(model, cp), cp);
     }
     last_contact_radius_ = std::max(last_contact_radius_, a);
+    if (ind.stage == first_load_) {
+        const double f = ind.force();
+        if (onset_taken_ && !unstable_taken_ && f < (1.0 - kPopIn) * max_force_) {
+            unstable_taken_ = true;
+            const CrackParams cp = crackParams(model, mean_radius_, a);
+            return snapshot("unstable", classifyReleased(model, cp), cp);
+        }
+        max_force_ = std::max(max_force_, f);
+    }
     if (!onset_taken_ && a > 0.0 && ind.stage == first_load_) { // the onset is a loading event
         long released = 0;
         for (std::uint8_t r : p.released) released += r;
@@ -145,7 +157,7 @@ std::string CrackSnapshots::observe(const Model& model, long step, double time) 
 }
 
 void measureIndentation(const Scene& scene, const Model& model, double mean_radius, const fs::path& out,
-                        nlohmann::ordered_json& m) {
+                        nlohmann::ordered_json& m, CrackSnapshots* cracks) {
     const Indenter& ind = *model.indenter;
     const Particles& p = model.particles;
     const std::size_t n = p.size();
@@ -159,8 +171,15 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
     params.smoothing = 0.5 * mean_radius;
     const SurfaceGrid before =
         surfaceEnvelope(n, p.initial_position.data(), p.radius.data(), params.axis, params.far_outer, params.spacing);
-    const SurfaceGrid after =
-        surfaceEnvelope(n, p.position.data(), p.radius.data(), params.axis, params.far_outer, params.spacing);
+    // The print of the bonded solid: released particles (fragments) are left out of the final surface.
+    std::vector<double> kept_position, kept_radius;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (p.fractureEnabled() && p.released[i]) continue;
+        for (int c = 0; c < 3; ++c) kept_position.push_back(p.position[3 * i + c]);
+        kept_radius.push_back(p.radius[i]);
+    }
+    const SurfaceGrid after = surfaceEnvelope(kept_radius.size(), kept_position.data(), kept_radius.data(),
+                                              params.axis, params.far_outer, params.spacing);
     const ImprintMetrics im = measureImprint(before, after, params);
 
     m["V_minus_um3"] = im.v_minus;
@@ -180,7 +199,8 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
                           " um), after minus before, Gaussian-smoothed (sigma " + std::to_string(params.smoothing) +
                           " um), far field = mean over r in [" + std::to_string(params.far_inner) + ", " +
                           std::to_string(params.far_outer) + "] um, integrals over r < " +
-                          std::to_string(params.far_inner) + " um";
+                          std::to_string(params.far_inner) + " um" +
+                          (p.fractureEnabled() ? "; released particles left out of the final surface" : "");
     m["far_field_offset_um"] = im.far_field;
 
     // Densified volume from the permanent volumetric strain: Σ Ω_i (−ε_v,i), Ω_i = particle volume / φ with φ
@@ -235,11 +255,37 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
     // (solver/cracks.hpp), with a = half the imprint diagonal (3.5 h_max, the Vickers ratio d = 7 h, when the
     // print has no diagonal); cracks.csv holds them for the Fig 15 views.
     if (p.fractureEnabled()) {
-        const double a = im.diagonal > 0.0 ? 0.5 * im.diagonal : 3.5 * ind.max_depth;
-        const CrackPattern cr = classifyReleased(model, crackParams(model, mean_radius, a));
+        // The final state about the largest contact seen (the residual print of a cracked sample is no
+        // measure of the contact), or half the diagonal (3.5 h_max, the Vickers ratio d = 7 h, without one).
+        double a = cracks && cracks->maxContactRadius() > 0.0 ? cracks->maxContactRadius()
+                   : im.diagonal > 0.0                         ? 0.5 * im.diagonal
+                                                               : 3.5 * ind.max_depth;
+        const CrackParams cp = crackParams(model, mean_radius, a);
+        const CrackPattern cr = classifyReleased(model, cp);
         writeCracksCsv(out / "cracks.csv", p);
-        const nlohmann::ordered_json j = crackJson(cr, crackParams(model, mean_radius, a));
-        for (auto it = j.begin(); it != j.end(); ++it) m[it.key()] = it.value();
+        nlohmann::ordered_json final_state = crackJson(cr, cp);
+        final_state["released_particles"] = cr.released;
+        nlohmann::ordered_json top = final_state;
+        std::string instant = "final";
+        if (cracks) {
+            cracks->json()["final"] = final_state;
+            for (const char* tag : {"unstable", "full_load"}) {
+                if (cracks->json().contains(tag)) {
+                    top = cracks->json()[tag];
+                    instant = tag;
+                    break;
+                }
+            }
+        }
+        m["crack_instant"] = instant; // the paper's Fig 15: just before unstable cracking, else at full load
+        for (const char* key : {"cone_crack", "cone_radius_um", "cone_angle_deg", "ring_coverage",
+                                "radial_crack_count", "median_crack", "lateral_crack", "lateral_crack_depth_um",
+                                "crack_classification"}) {
+            m[key] = top[key];
+        }
+        m["released_particles_at_crack_instant"] = top["released_particles"];
+        m["tool_force_at_crack_instant_N"] = top.contains("tool_force_N") ? top["tool_force_N"]
+                                                                          : nlohmann::ordered_json(ind.max_force * 1e-3);
     }
 
     // Plot data: the imprint on its grid, and a slab through the axis (y ≈ axis y) for the cut-away view.

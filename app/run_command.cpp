@@ -640,7 +640,7 @@ int runScene(const RunOptions& options) {
     }
 
     if (model.indenter) {
-        measureIndentation(scene, model, mean_radius, out, measurements);
+        measureIndentation(scene, model, mean_radius, out, measurements, cracks ? &*cracks : nullptr);
         if (cracks) {
             measurements["crack_snapshots"] = cracks->json();
         }

@@ -59,7 +59,10 @@ CrackPattern classifyCracks(std::size_t n, const double* centres, const CrackPar
     }
     std::vector<const Point*> ring, outer, sub;
     for (const Point& p : pts) {
-        if (p.r <= a) {
+        const bool under = c.square_half_side > 0.0
+                               ? std::max(std::abs(p.x), std::abs(p.y)) <= c.square_half_side
+                               : p.r <= a;
+        if (under) {
             ++out.core;
             out.deep_core += p.d > 1.5 * a ? 1 : 0;
             continue;

@@ -5,7 +5,8 @@
 // about the load axis: r (distance from the axis), φ (azimuth) and d (depth below the free surface).
 //
 // The classification (each threshold is a plain number below, stated with its reason):
-//   core     r ≤ a: under the contact (a: the contact radius, e.g. half the imprint diagonal)
+//   core     under the contact footprint: r ≤ a (a: the contact radius), or inside the square print of a
+//            Vickers pyramid (|x|, |y| ≤ a/√2 with a its half-diagonal)
 //   ring     outside the core within the surface band d ≤ band: a cone/ring crack when its particles cover
 //            ≥ 75 % of 24 azimuthal sectors (a ring is closed; a few radial cracks cover a few sectors) and
 //            it is thin (interquartile radial spread ≤ max(3 band, r/4): scattered damage is not a ring);
@@ -29,7 +30,12 @@ namespace vitrum {
 struct CrackParams {
     Vec3 axis = Vec3::Zero();  ///< a point on the load axis (x, y used), µm
     double surface = 0.0;      ///< z of the free surface, µm (depth d = surface − z)
-    double contact_radius = 0.0; ///< a, µm
+    double contact_radius = 0.0; ///< a, µm: the farthest contact point from the axis
+    /// The contact footprint: the disc r ≤ a, or, when > 0, the square |x|, |y| ≤ square_half_side about the
+    /// axis (a Vickers print, faces normal to ±x and ±y, half-diagonal a = √2 square_half_side): a ring
+    /// outside a square print lies between its half-side and its half-diagonal, and a disc of radius a would
+    /// count its particles off the corners as under the contact.
+    double square_half_side = 0.0; ///< µm
     double band = 0.0;         ///< thickness of the surface band, µm (e.g. 3 R̄)
     long min_particles = 5;    ///< fewer particles than this make no crack (noise of single releases)
 };
