@@ -8,8 +8,9 @@
                                (imprint.csv; paper Fig 13: blue below, red above the far field)
   plots/densified_cutaway.png  cut-away through the axis coloured by the residual volumetric strain
                                (cutaway.csv; paper Fig 14)
-  plots/cracks.png             with fracture: the released particles, top view and cut-away (cracks.csv;
-                               paper Fig 15)
+  plots/cracks.png             with fracture: the released particles, top view and cut-away, at the paper's
+                               Fig 15 instant (cracks_<crack_instant>.csv); cracks_<tag>.png at every
+                               snapshot (onset, unstable, full_load; final: cracks.csv)
 """
 import csv
 import json
@@ -27,6 +28,37 @@ def columns(path, names):
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     return [[float(r[n]) for r in rows] for n in names]
+
+
+def plot_cracks(plt, path, info, title, files):
+    """Top view and cut-away of the released particles in `path` (a cracks*.csv), titled with `info`'s
+    crack classification (a crack_snapshots entry)."""
+    x0, y0, z0 = columns(path, ["x0_um", "y0_um", "z0_um"])
+    if not x0:
+        return
+    fig, (top, cut) = plt.subplots(1, 2, figsize=(10, 4.4), dpi=120)
+    sc = top.scatter(x0, y0, c=z0, s=3, cmap="plasma", linewidths=0)
+    fig.colorbar(sc, ax=top, label="initial z (um)")
+    top.set_aspect("equal")
+    top.set_xlabel("x (um)")
+    top.set_ylabel("y (um)")
+    top.set_title("released particles: top view", fontsize=9)
+    half = [(xi, zi) for xi, yi, zi in zip(x0, y0, z0) if yi >= 0.0]  # the far half: a cut-away
+    cut.scatter([h[0] for h in half], [h[1] for h in half], s=3, c="k", linewidths=0)
+    cut.set_aspect("equal")
+    cut.set_xlabel("x (um)")
+    cut.set_ylabel("z (um)")
+    sub = "cut-away (y >= 0)"
+    if info.get("cone_crack"):
+        sub += f":\ncone radius {info.get('cone_radius_um', 0):.2f} um, angle {info.get('cone_angle_deg', 0):.1f} deg"
+    sub += f", radial cracks {info.get('radial_crack_count', 0)}"
+    cut.set_title(sub, fontsize=9)
+    force = f" at {info['tool_force_N']:.2f} N" if "tool_force_N" in info else ""
+    fig.suptitle(f"{title}: {len(x0)} released particles{force}", fontsize=10)
+    fig.tight_layout()
+    for f in files:
+        fig.savefig(f)
+    plt.close(fig)
 
 
 def main() -> int:
@@ -87,32 +119,16 @@ def main() -> int:
     plt.close(fig)
 
     # Crack maps (effect fracture; paper Fig 15): the released particles in the reference configuration, seen
-    # from the top (coloured by depth) and cut away (all of them projected on the x-z plane of the axis).
-    cracks = os.path.join(out, "cracks.csv")
-    if os.path.exists(cracks):
-        x0, y0, z0 = columns(cracks, ["x0_um", "y0_um", "z0_um"])
-        if x0:
-            fig, (top, cut) = plt.subplots(1, 2, figsize=(10, 4.4), dpi=120)
-            sc = top.scatter(x0, y0, c=z0, s=3, cmap="plasma", linewidths=0)
-            fig.colorbar(sc, ax=top, label="initial z (um)")
-            top.set_aspect("equal")
-            top.set_xlabel("x (um)")
-            top.set_ylabel("y (um)")
-            top.set_title("released particles: top view", fontsize=9)
-            half = [(xi, zi) for xi, yi, zi in zip(x0, y0, z0) if yi >= 0.0]  # the far half: a cut-away
-            cut.scatter([h[0] for h in half], [h[1] for h in half], s=3, c="k", linewidths=0)
-            cut.set_aspect("equal")
-            cut.set_xlabel("x (um)")
-            cut.set_ylabel("z (um)")
-            title = "cut-away (y >= 0)"
-            if m.get("cone_crack"):
-                title += f": cone radius {m.get('cone_radius_um', 0):.2f} um, angle {m.get('cone_angle_deg', 0):.1f} deg"
-            title += f", radial cracks {m.get('radial_crack_count', 0)}"
-            cut.set_title(title, fontsize=9)
-            fig.suptitle(f"{name}: {len(x0)} released particles", fontsize=10)
-            fig.tight_layout()
-            fig.savefig(os.path.join(plots, "cracks.png"))
-            plt.close(fig)
+    # from the top (coloured by depth) and cut away (all of them projected on the x-z plane of the axis), at
+    # each snapshot the run took; cracks.png is the Fig 15 instant (measurements.crack_instant).
+    snapshots = m.get("crack_snapshots", {})
+    instant = m.get("crack_instant", "final")
+    for tag in ["onset", "unstable", "full_load", "final"]:
+        path = os.path.join(out, "cracks.csv" if tag == "final" else f"cracks_{tag}.csv")
+        info = snapshots.get(tag, m if tag == "final" else None)
+        if os.path.exists(path) and info is not None:
+            names = [f"cracks_{tag}.png"] + (["cracks.png"] if tag == instant else [])
+            plot_cracks(plt, path, info, f"{name} ({tag.replace('_', ' ')})", [os.path.join(plots, n) for n in names])
     return 0
 
 

@@ -136,5 +136,26 @@ TEST(Cracks, AFewScatteredReleasesMakeNoCrack) {
     EXPECT_EQ(p.released, 4);
 }
 
+TEST(Cracks, ARingHuggingASquareVickersPrintIsACone) {
+    // A Vickers print of half-diagonal a = 3√2 µm (half-side 3 µm) and a cone starting at r0 = 4 µm: outside
+    // the square wherever max(|cos φ|, |sin φ|) > 3/4 (92 % of the azimuths, all 24 sectors), but starting
+    // inside the disc r ≤ a = 4.24 µm: the disc of the corner radius counts the ring's inner part as under
+    // the print all the way round.
+    std::vector<double> x;
+    addCone(x, 4.0, 35.0, 3.0);
+    CrackParams c = params();
+    c.contact_radius = 3.0 * std::sqrt(2.0);
+    const CrackPattern disc = classifyCracks(x.size() / 3, x.data(), c);
+    c.square_half_side = 3.0;
+    const CrackPattern square = classifyCracks(x.size() / 3, x.data(), c);
+    EXPECT_TRUE(square.cone);
+    // The ring band's median as in AConeGivesItsSurfaceRadiusAndFlankAngle; the corner particles left under
+    // the print are the innermost of the band, so the median moves out by less than the band's width.
+    EXPECT_NEAR(square.cone_radius, 4.0 + 0.3 / std::tan(35.0 * kPi / 180.0), 0.5);
+    EXPECT_NEAR(square.cone_angle, 35.0, 2.0);
+    EXPECT_GT(square.core, 0); // the flank's corner parts lie under the print
+    EXPECT_LT(square.core, disc.core);
+}
+
 } // namespace
 } // namespace vitrum
