@@ -13,8 +13,6 @@
 
 namespace vitrum {
 
-
-
 /// The crack classification's parameters for this run: the load axis through the tip, the free surface,
 /// contact radius `contact_radius` (µm) and a surface band of 3 R̄.
 CrackParams crackParams(const Model& model, double mean_radius, double contact_radius);
