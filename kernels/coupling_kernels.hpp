@@ -16,6 +16,7 @@
 #include <cstdint>
 
 #include "kernels/views.hpp"
+#include "kernels/virial_stress.hpp"
 
 namespace vitrum {
 
@@ -69,6 +70,11 @@ struct BridgeView {
 /// computeBeamLoads and gatherBondLoads.
 void weightBondLoads(const BondView& bonds, const double* weight);
 
+/// Multiplies every unbonded contact pair's loads by α_d at the midpoint of its two particles in the reference
+/// configuration (`initial_position`, 3 per particle), as the bonds (a contact is a DEM-internal pair force:
+/// the continuum carries the rest of the material's response). Run between the contact loads and their gather.
+void weightContactLoads(const ContactPairView& pairs, const BridgeZone& zone, const double* initial_position);
+
 /// d_p = v_i − Σ_J N_J(x_i) V_J for every bridging particle p (3 per particle), km/s.
 void bridgeMismatch(const BridgeView& b, const double* particle_velocity, const double* node_velocity,
                     double* mismatch);
@@ -82,5 +88,22 @@ void bridgeResidual(const BridgeView& b, const double* mismatch, double* residua
 void bridgeCorrect(const BridgeView& b, const double* lambda, const double* particle_inverse_mass,
                    const double* node_inverse_mass, double* particle_velocity, double* node_velocity,
                    double* scratch);
+
+/// The loads of the bridging particles before the external load phases: force and torque, 6 per bridging
+/// particle into `saved` (the state after the bond gather and the unbonded contacts, i.e. the DEM's own,
+/// already weighted internal loads).
+void saveBridgeLoads(const BridgeView& b, const double* force, const double* torque, double* saved);
+
+/// Splits the external loads added to the bridging particles since saveBridgeLoads between the two models
+/// (note §4.3: each model carries its weighted share of a load applied in the zone; tool contact and pressure
+/// here). With f_ext = f_i − f_i^saved on bridging particle i and α = α_d(x_i):
+///   f_i = f_i^saved + α f_ext,   t_i = t_i^saved + α t_ext   (the weighted mass α m_i carries α of the load,
+///                                                              the rotation equation α J ω̇ = α t keeps its rate)
+///   F_J += Σ_i (1 − α) N_J(x_i) f_ext,i                    (the CNEM's share; Σ_J N_J = 1)
+/// so the total force on the coupled system is the applied one; only the torque's (1 − α) share, for which
+/// the continuum has no rotation, is not carried. `share` is scratch of 3 per bridging particle; the node sum
+/// runs over the transpose in bridging-particle order (deterministic for any thread count).
+void splitBridgeLoads(const BridgeView& b, const double* particle_weight, const double* saved, double* force,
+                      double* torque, double* share, double* node_force);
 
 } // namespace vitrum

@@ -285,6 +285,8 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
     b.lambda.assign(3 * b.multiplier_node.size(), 0.0);
     b.lambda_at_particle.assign(3 * P, 0.0);
     b.cnem_scratch.assign(3 * N, 0.0);
+    b.saved_loads.assign(6 * P, 0.0);
+    b.load_share.assign(3 * P, 0.0);
     return b;
 }
 
@@ -298,6 +300,15 @@ void computeCoupledForces(Particles& particles, Bonds& bonds, const Incidence& i
     cnemInternalForces(bridge.cnemView(cnem), cnem.law, cnem.displacement.data(), cnem.force.data());
     for (std::size_t a = 0; a < cnem.force.size(); ++a)
         cnem.force[a] += cnem.external_force[a];
+}
+
+void rememberInternalLoads(const Particles& particles, Bridge& bridge) {
+    saveBridgeLoads(bridge.view(), particles.force.data(), particles.torque.data(), bridge.saved_loads.data());
+}
+
+void splitExternalLoads(Particles& particles, CnemModel& cnem, Bridge& bridge) {
+    splitBridgeLoads(bridge.view(), bridge.particle_weight.data(), bridge.saved_loads.data(), particles.force.data(),
+                     particles.torque.data(), bridge.load_share.data(), cnem.force.data());
 }
 
 void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bridge) {

@@ -6,7 +6,8 @@
 // CNEM lumped mass ρ ᾱ_c,L V_L with ᾱ_c,L the cell average of α_c over the median-dual cell (24-point rule:
 // the centroids of the barycentric sub-tetrahedra, exact for a linear α_c on each of them); the SCNI cell
 // energy × α_c(x_L) (nodal value, default; the cell average is an option, see BridgeOptions); the
-// stabilisation tets × their mean α_c. External loads are the caller's (weight them).
+// stabilisation tets × their mean α_c. External loads applied to bridging particles (tool, pressure) are
+// split between the models by splitBridgeLoads (α_d on the particle, (1 − α_d) N_J on the CNEM nodes).
 //
 // Constraint (§4.4): G_d v + G_c V = 0 on the multiplier nodes 𝒦 (nodes with Σ_i w_i N_K(x_i) above a
 // tolerance); A = G_d M̃_d⁻¹ G_dᵀ + G_c M̃_c⁻¹ G_cᵀ is assembled and Cholesky-factorised once (Eigen
@@ -85,6 +86,8 @@ struct Bridge {
     std::shared_ptr<const BridgeFactor> factor;
     // Scratch of the projection.
     std::vector<double> mismatch, residual, lambda, lambda_at_particle, cnem_scratch;
+    // Scratch of the external-load split (splitBridgeLoads): 6 and 3 per bridging particle.
+    std::vector<double> saved_loads, load_share;
 
     BridgeView view() const;
     /// The DEM particles with the weighted mass and inertia (for halfKick, drift, kineticEnergy).
@@ -110,6 +113,13 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
 /// (overwritten); CNEM f_int with the cell/tet weights plus external_force into cnem.force.
 void computeCoupledForces(Particles& particles, Bonds& bonds, const Incidence& incidence, CnemModel& cnem,
                           Bridge& bridge);
+
+/// The external loads in the zone: rememberInternalLoads before the external load phases (after the bond
+/// gather and the unbonded contacts), splitExternalLoads after them (kernels/coupling_kernels.hpp
+/// splitBridgeLoads: α_d of each bridging particle's external load stays on it, (1 − α_d) goes to the CNEM
+/// nodes through N_J(x_i), added to cnem.force).
+void rememberInternalLoads(const Particles& particles, Bridge& bridge);
+void splitExternalLoads(Particles& particles, CnemModel& cnem, Bridge& bridge);
 
 /// Projects the velocities onto the constraint (§4.4 steps 3–5): g = G_d v + G_c V, A λ = −g, correction.
 void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bridge);

@@ -6,7 +6,9 @@
 #include <numbers>
 #include <random>
 
+#include "kernels/coupling_kernels.hpp"
 #include "kernels/parallel.hpp"
+#include "solver/coupling_effect.hpp"
 #include "solver/model.hpp"
 #include "solver/step.hpp"
 
@@ -139,6 +141,9 @@ void addContactPhases(Step& step, const Scene& scene, Model& model) {
         const ContactPairView pairs = m.contacts.view();
         computeContactLoads(law, pairs, m.particles.view(), m.particles.initial_position.data(), m.bonds.broken.data(),
                             c.dt);
+        if (m.coupling) { // in the bridging zone the pair loads are weighted like the bonds' (α_d at the midpoint)
+            weightContactLoads(pairs, m.coupling->bridge.zone, m.particles.initial_position.data());
+        }
         gatherContactLoads(m.contacts.incidenceView(), pairs, m.particles.view());
     });
 }

@@ -210,6 +210,14 @@ Step composeStep(const Scene& scene, Model& model) {
         gatherBondLoads(c.model.incidence.view(), c.model.bonds.view(), c.model.particles.view());
     });
     addContactPhases(step, scene, model); // effect contact: unbonded contacts (solver/fracture.hpp)
+    // Coupled with external loads on the DEM (tool, pressure): the bridging particles' loads so far are the
+    // DEM's own, weighted (bonds and unbonded contacts by α_d at their midpoint); what the load phases add to
+    // them is then split between the two models.
+    const bool split_loads = coupled && (scene.hasEffect("indenter") || !model.loads.empty());
+    if (split_loads) {
+        step.add("coupling.internal_loads", true,
+                 [](StepContext& c) { rememberInternalLoads(c.model.particles, c.model.coupling->bridge); });
+    }
     if (model.indenter) {
         // After the gather (which overwrites the forces), before damping (which acts on the total force).
         step.add("indenter.contact", true, [](StepContext& c) {
@@ -228,6 +236,11 @@ Step composeStep(const Scene& scene, Model& model) {
             for (const PressureLoad& load : c.model.loads) {
                 applyPressure(c.model.particles.view(), load.surface.view(), load.params.pressureAt(c.time));
             }
+        });
+    }
+    if (split_loads) {
+        step.add("coupling.split_external_loads", true, [](StepContext& c) {
+            splitExternalLoads(c.model.particles, c.model.coupling->cnem, c.model.coupling->bridge);
         });
     }
     addFracturePhases(step, scene, model); // effect fracture: after every force phase (solver/fracture.hpp)
