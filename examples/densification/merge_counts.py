@@ -1,36 +1,64 @@
 #!/usr/bin/env python3
-"""Merges the particle-count sweeps (out/sens/counts, out/sens/small, the 10 000-particle calibration runs in
-out/cal10k/eval0) into results/particle-count-{curves,sensitivity}.csv and the plot (README, "Particle-count
-sensitivity"). Run from anywhere: /usr/bin/python3 examples/densification/merge_counts.py"""
-import csv, json, glob, os, subprocess, sys
+"""Merges particle-count sweeps into results/particle-count-{curves,sensitivity}.csv and the plot (README,
+"Particle-count sensitivity"; paper Fig 6).
+
+The committed curves (results/particle-count-curves.csv) are the base; each --add N=DIR adds or replaces the
+column of N particles with the residual volume change of a sweep folder, which is either a
+`vitrum calibrate densification --out DIR` folder (DIR/eval0/pressures.csv) or a sweep.py/sensitivity.py
+folder (DIR/P*/summary.json). Ji's bilinear envelope is fitted to every column.
+
+    /usr/bin/python3 examples/densification/merge_counts.py \\
+        --add 5000=out/accuracy-cost-hydrostatic/particles-5000 --add 20000=out/accuracy-cost-hydrostatic/particles-20000
+"""
+import argparse, csv, glob, json, os, subprocess, sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import calibrate
+
 root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+out = root + '/examples/densification/results'
+
+
+def read_sweep(d):
+    pts = {0.0: 0.0}
+    table = os.path.join(d, 'eval0', 'pressures.csv')
+    if os.path.exists(table):
+        for r in csv.DictReader(open(table)):
+            pts[float(r['pressure_GPa'])] = 100.0 * float(r['residual_volume_change'])
+    else:
+        for f in glob.glob(os.path.join(d, 'P*', 'summary.json')):
+            m = json.load(open(f))['measurements']
+            pts[m['pressure_GPa']] = 100.0 * m['residual_volume_change']
+    return pts
+
+
+ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+ap.add_argument('--add', action='append', default=[], metavar='N=DIR')
+a = ap.parse_args()
 series = {}  # N -> {P: residual %}
-for d in glob.glob(root + '/out/sens/counts/N*') + glob.glob(root + '/out/sens/small/N*') + [root + '/out/cal10k/eval0']:
-    n = 10000 if d.endswith('eval0') else int(os.path.basename(d)[1:])
-    pts = {}
-    for f in glob.glob(d + '/P*/summary.json'):
-        m = json.load(open(f))['measurements']
-        pts[m['pressure_GPa']] = 100.0 * m['residual_volume_change']
-    if n == 10000:
-        pts[0.0] = 0.0
-    if len(pts) >= 13:
-        series[n] = pts
+with open(out + '/particle-count-curves.csv') as f:
+    rows = list(csv.DictReader(f))
+for key in rows[0]:
+    if key.startswith('N'):
+        series[int(key[1:])] = {float(r['pressure_GPa']): float(r[key]) for r in rows if r[key] != ''}
+for spec in a.add:
+    n, d = spec.split('=', 1)
+    series[int(n)] = read_sweep(d)
 counts = sorted(series)
 ps = sorted(series[counts[0]])
-out = root + '/examples/densification/results'
+for n in counts:
+    if sorted(series[n]) != ps:
+        raise SystemExit(f'{n} particles: pressures {sorted(series[n])} differ from {ps}')
 with open(out + '/particle-count-curves.csv', 'w', newline='') as f:
     w = csv.writer(f); w.writerow(['pressure_GPa'] + [f'N{n}' for n in counts])
-    for p in ps: w.writerow([p] + [series[n].get(p, '') for n in counts])
-rows = []
+    for p in ps: w.writerow([p] + [series[n][p] for n in counts])
+table = []
 for n in counts:
     pd, p_s, d = calibrate.fit_bilinear(ps, [series[n][p] for p in ps])
-    rows.append((n, pd, p_s, d, series[n][30.0]))
+    table.append((n, pd, p_s, d, series[n][ps[-1]]))
 with open(out + '/particle-count-sensitivity.csv', 'w', newline='') as f:
     w = csv.writer(f); w.writerow(['particles', 'P_d_GPa', 'P_s_GPa', 'volume_change_fit_percent', 'volume_change_at_30GPa_percent'])
-    for r in rows: w.writerow(r)
-for r in rows: print(f"| {r[0]} | {r[1]:.1f} | {r[2]:.1f} | {r[3]:.2f} | {r[4]:.2f} |")
+    for r in table: w.writerow(r)
+for r in table: print(f"| {r[0]} | {r[1]:.1f} | {r[2]:.1f} | {r[3]:.2f} | {r[4]:.2f} |")
 cmd = [sys.executable, root + '/io/plot.py', out + '/particle-count-curves.csv', '--x', 'pressure_GPa']
 for n in counts: cmd += ['--y', f'N{n}', '--label', f'{n} particles']
 cmd += ['--xlabel', 'maximum pressure (GPa)', '--ylabel', 'residual volume change (%)', '--hline', '17.4:Ji saturated 17.4 %',
