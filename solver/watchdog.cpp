@@ -183,6 +183,13 @@ InstabilityDiagnosis diagnoseInstability(const Model& model, long particle, doub
             model.bonds.slip[static_cast<std::size_t>(d.bond_index)] != 0.0) {
             a << "; its bonds have densified, and property evolution stiffens them beyond the initial estimate";
         }
+        if (intactBonds(model, p) <= 3 && !model.loads.empty()) {
+            // Hydrostatic runs at 18-22 GPa (examples/densification/README.md): a 3-bond surface particle under
+            // its hull share of the pressure spins up at any ratio (faster at a smaller one): a mechanism.
+            a << "; but it is held by only " << intactBonds(model, p) << " intact bonds under a [[load]]: a "
+              << "loosely bonded surface particle that the load can turn; if a smaller ratio only delays this "
+              << "stop, the spin-up is mechanical, not the time step (lower the pressure or use another packing)";
+        }
         const double strain = d.bond_index >= 0 ? std::abs(axialStrain(model, static_cast<std::size_t>(d.bond_index)))
                                                 : 0.0;
         if (!finite(x) || !finite(v) || !std::isfinite(strain) || strain > 0.25) {
