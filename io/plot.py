@@ -39,7 +39,7 @@ def main() -> int:
     fig, ax = plt.subplots(figsize=(6, 4), dpi=120)
     xs = [float(r[a.x]) for r in rows]
     for k, ycol in enumerate(a.y):
-        ys = [float(r[ycol]) for r in rows]
+        ys = [float(r[ycol]) if r[ycol] != "" else float("nan") for r in rows]  # empty: not measured (a gap)
         label = a.label[k] if k < len(a.label) else ycol
         if k < len(a.yerr):
             es = [float(r[a.yerr[k]]) for r in rows]
