@@ -29,6 +29,7 @@
 #include "io/units.hpp"
 #include "io/vtk_writer.hpp"
 #include "io/watchdog_report.hpp"
+#include "kernels/bond_kernels.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/strain.hpp"
 #include "kernels/timestep.hpp"
@@ -718,6 +719,7 @@ int runScene(const RunOptions& options) {
     summary["damping"] = {{"kind", dampingName(scene)},
                           {"coefficient", dampingName(scene) == "none" ? 0.0 : scene.damping.coefficient}};
     summary["threads"] = threadCount();
+    summary["beam_simd_lanes"] = beamLanes(); // 4: AVX2, 2: SSE2 (bit-identical results either way)
     summary["wall_time_s"] = wall;
     summary["loop_time_s"] = loop_seconds;
     summary["bond_updates_per_s"] = static_cast<double>(model.bonds.size()) * static_cast<double>(last_step - first + 1) / loop_seconds;

@@ -88,6 +88,7 @@ void reportCommon(benchmark::State& state, const BenchModel& bm, double dram_byt
     state.counters["particles"] = static_cast<double>(bm.model.particles.size());
     state.counters["bonds"] = static_cast<double>(bm.model.bonds.size());
     state.counters["threads"] = vitrum::threadCount();
+    state.counters["lanes"] = vitrum::beamLanes(); // SIMD lanes of the beam pass (2: SSE2, 4: AVX2)
     if (dram_bytes_per_iteration > 0.0) {
         state.counters["dram_Bps"] = benchmark::Counter(
             dram_bytes_per_iteration * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
@@ -218,6 +219,40 @@ void BM_BeamLoadsDensified(benchmark::State& state) {
     reportCommon(state, bm, (kBeamStreamBytes + kDensifyBytes) * nb + kBeamParticleBytes * static_cast<double>(p.n));
 }
 
+/// Design bench: the beam pass in 2 SSE2 lanes vs 4 AVX2 lanes (kernels/beam_lanes.hpp; bit-identical results,
+/// BeamLanes.LaneWidthsAreBitIdentical), plain (variant 0) or with the spring-slider and property evolution
+/// (variant 1, every bond on the elastic branch). The production pass takes 4 lanes where the CPU has AVX2.
+void BM_BeamLanes(benchmark::State& state) {
+    const int lanes = static_cast<int>(state.range(1));
+    if (!vitrum::setBeamLanes(lanes)) {
+        state.SkipWithError("CPU without AVX2");
+        return;
+    }
+    BenchModel& bm = modelFor(state.range(0));
+    const bool densified = state.range(2) != 0;
+    if (densified) {
+        enableDensification(bm);
+    }
+    const vitrum::BondView b = bm.model.bonds.view();
+    const vitrum::ParticleView p = bm.model.particles.view();
+    const vitrum::DensificationLaw law = vitrum::densificationLaw(bm.scene);
+    const vitrum::DensificationView d = bm.model.bonds.densificationView();
+    for (auto _ : state) {
+        if (densified) {
+            vitrum::computeBeamLoads(b, p, law, d);
+        } else {
+            vitrum::computeBeamLoads(b, p);
+        }
+        benchmark::ClobberMemory();
+    }
+    const double nb = static_cast<double>(b.n);
+    state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
+    reportCommon(state, bm,
+                 (kBeamStreamBytes + (densified ? kDensifyBytes : 0.0)) * nb +
+                     kBeamParticleBytes * static_cast<double>(p.n));
+    vitrum::setBeamLanes(0);
+}
+
 /// The full elastic + densification step: composeStep with effects {elasticity, densification}.
 void BM_FullStepDensified(benchmark::State& state) {
     BenchModel& bm = modelFor(state.range(0));
@@ -294,10 +329,12 @@ void BM_StreamTriad(benchmark::State& state) {
 /// Peak-ish floating-point rate: every thread (one parallelFor index per thread) runs `kChains` independent
 /// dependency chains x ← x·m + a (one multiply and one add per element: 2 flop) for `kSweeps` sweeps. 24
 /// doubles are 12 SSE2 registers, enough independent chains to cover the multiply and add latencies on both
-/// FP pipes. Variant 0: this build's ISA (x86-64-v2: SSE2 mulpd + addpd, no FMA), the bound the kernels can
-/// reach as compiled. Variant 1: the same loop compiled for AVX2 + FMA (`target` attribute; 12 chains of 4
-/// doubles, one FMA each), the hardware's double-precision peak on this machine, reached only by a build with
-/// -march=x86-64-v3 or wider; skipped when the CPU lacks FMA.
+/// FP pipes. Variant 0: this build's ISA (x86-64-v2: SSE2 mulpd + addpd, no FMA), the bound the baseline
+/// kernels can reach as compiled. Variant 1: the same loop compiled for AVX2 + FMA (`target` attribute; 12
+/// chains of 4 doubles, one FMA each), the hardware's double-precision peak on this machine; vitrum uses no
+/// FMA (results would then depend on the machine's ISA), so no kernel can reach it. Variant 2: AVX2 without
+/// FMA (12 chains of 4 doubles, vmulpd + vaddpd), the peak of the beam pass in AVX2 lanes
+/// (kernels/beam_lanes.hpp). Variants 1 and 2 are skipped on a CPU without the instructions.
 constexpr int kChains = 24;
 constexpr long kSweeps = 1L << 22;
 
@@ -336,10 +373,27 @@ __attribute__((target("avx2,fma"))) double peakLoopFma(double m, double a) {
     return sum;
 }
 
+__attribute__((target("avx2"))) double peakLoopAvx2(double m, double a) {
+    double x[kChainsFma];
+    for (int c = 0; c < kChainsFma; ++c) {
+        x[c] = 1.0 + 1e-3 * c;
+    }
+    for (long s = 0; s < kSweeps; ++s) {
+        for (int c = 0; c < kChainsFma; ++c) {
+            x[c] = x[c] * m + a;
+        }
+    }
+    double sum = 0.0;
+    for (int c = 0; c < kChainsFma; ++c) {
+        sum += x[c];
+    }
+    return sum;
+}
+
 void BM_PeakFlops(benchmark::State& state) {
     const int variant = static_cast<int>(state.range(0));
-    if (variant == 1 && !__builtin_cpu_supports("fma")) {
-        state.SkipWithError("CPU without FMA");
+    if ((variant == 1 && !__builtin_cpu_supports("fma")) || (variant == 2 && !__builtin_cpu_supports("avx2"))) {
+        state.SkipWithError("CPU without the instructions of this variant");
         return;
     }
     const int threads = vitrum::threadCount();
@@ -348,16 +402,16 @@ void BM_PeakFlops(benchmark::State& state) {
     const double a = 1e-6;
     for (auto _ : state) {
         vitrum::parallelFor("bench.peak", static_cast<std::size_t>(threads), [&](std::size_t t) {
-            sink[t] = variant == 1 ? peakLoopFma(m, a) : peakLoopBuildIsa(m, a);
+            sink[t] = variant == 1 ? peakLoopFma(m, a) : variant == 2 ? peakLoopAvx2(m, a) : peakLoopBuildIsa(m, a);
         });
         benchmark::DoNotOptimize(sink.data());
     }
-    const double chains = variant == 1 ? kChainsFma : kChains;
+    const double chains = variant == 0 ? kChains : kChainsFma;
     const double flops = 2.0 * chains * static_cast<double>(kSweeps) * threads;
     state.counters["flops"] = benchmark::Counter(flops * static_cast<double>(state.iterations()),
                                                  benchmark::Counter::kIsRate);
     state.counters["threads"] = threads;
-    state.SetLabel(variant == 1 ? "avx2+fma" : "build isa (sse2 mul+add)");
+    state.SetLabel(variant == 1 ? "avx2+fma" : variant == 2 ? "avx2 mul+add (the beam lanes' isa)" : "build isa (sse2 mul+add)");
 }
 
 // ---- design bench: CSR gather vs atomic scatter ---------------------------------------------------------
@@ -598,9 +652,14 @@ BENCHMARK(BM_BeamLoadsViscous)->Apply(particleCounts);
 BENCHMARK(BM_Gather)->Apply(particleCounts);
 BENCHMARK(BM_Integrate)->Apply(particleCounts);
 BENCHMARK(BM_FullStep)->Apply(particleCounts);
-BENCHMARK(BM_PeakFlops)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PeakFlops)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_BeamLoadsDensified)->Apply(particleCounts);
 BENCHMARK(BM_FullStepDensified)->Apply(particleCounts);
+BENCHMARK(BM_BeamLanes)
+    ->ArgNames({"n", "lanes", "densified"})
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {2, 4}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 BENCHMARK(BM_GatherVsAtomicScatter)
     ->ArgNames({"n", "variant"})
     ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2, 3, 4, 5}})

@@ -29,6 +29,13 @@ void computeBeamLoads(const BondView& bonds, const ParticleView& particles, cons
 void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const BondViscousDamping& damping,
                       const DensificationLaw& law, const DensificationView& state);
 
+/// SIMD lanes of the beam pass (kernels/beam_lanes.hpp): 4 doubles (AVX2) on a CPU that has AVX2, else 2
+/// (SSE2, the build's baseline). Both widths give bit-identical results, so the choice never changes a run.
+int beamLanes();
+/// Forces the lane width for the following passes: 2, 4, or 0 for the automatic choice. Returns false and
+/// changes nothing if 4 is asked of a CPU without AVX2 (or any other width). For benchmarks and tests.
+bool setBeamLanes(int width);
+
 /// Sets each particle's force and torque to the sum of its bonds' loads (CSR order). Overwrites.
 void gatherBondLoads(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles);
 
@@ -36,5 +43,18 @@ void gatherBondLoads(const IncidenceView& incidence, const BondView& bonds, cons
 double beamStrainEnergy(const BondView& bonds, const ParticleView& particles);
 /// Same, with the densified bonds' reference strains (elastic energy only; the slider's dissipation is not in it).
 double beamStrainEnergy(const BondView& bonds, const ParticleView& particles, const DensificationView& state);
+
+namespace detail {
+/// The variant and data of one beam pass, as the lane-width dispatch hands it on (kernels/beam_lanes.hpp).
+struct BeamPass {
+    bool viscous;
+    int densify; ///< 0 none, 1 slider, 2 slider + property evolution
+    double damping_ratio;
+    const DensificationLaw* law;
+    const DensificationView* state;
+};
+/// The pass in AVX2 lanes (bond_kernels_avx2.cpp); call only where the CPU has AVX2.
+void beamPassAvx2(const BondView& bonds, const ParticleView& particles, const BeamPass& pass);
+} // namespace detail
 
 } // namespace vitrum

@@ -48,6 +48,17 @@ double totalEnergy(Model& m) {
     return k.translational + k.rotational + beamStrainEnergy(m.bonds.view(), m.particles.view());
 }
 
+PropertyEvolution silicaEvolution() {
+    PropertyEvolution e;
+    e.a = {1.289909578910843, -3.792113559430187, 2.381399216042253};
+    e.b0 = {-0.7066063942831287, 2.1324617475069285, -1.445761720071556};
+    e.b1 = {0.18795409536328947, -0.869944534247202, 1.465802490870222};
+    e.young = 72.5;
+    e.poisson = 0.17;
+    e.poisson_max = 0.2494778890865429;
+    return e;
+}
+
 double maxBondStrain(const Model& m) {
     double worst = 0.0;
     for (std::size_t k = 0; k < m.bonds.size(); ++k) {

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "kernels/densification.hpp"
 #include "solver/model.hpp"
 
 namespace vitrum::testing {
@@ -38,5 +39,9 @@ nlohmann::json readSummary(const std::filesystem::path& dir);
 /// that is not in the header gives an empty vector.
 std::vector<std::vector<double>> readCsvColumns(const std::filesystem::path& path,
                                                const std::vector<std::string>& names);
+
+/// A silica calibration of eqs (5)–(6) (examples/calibration/silica.toml as of commit 3305ac5), fixed here so
+/// the tests do not move when the calibration is regenerated.
+PropertyEvolution silicaEvolution();
 
 } // namespace vitrum::testing

@@ -23,6 +23,8 @@
 namespace vitrum {
 namespace {
 
+using testing::silicaEvolution;
+
 // Round numbers for hand computation: E = 200 GPa, E_t = 50 GPa → H = 200·50/150 = 200/3 GPa,
 // σ_d = 5 GPa (yield strain 0.025), ε_pmax = 0.05 → saturation stress σ_d + H ε_pmax = 25/3 GPa, reached
 // at total strain −(25/3/200 + 0.05) = −0.0916667.
@@ -146,19 +148,6 @@ TEST(SpringSlider, PerfectSliderWithZeroTangent) {
 }
 
 // --- property evolution -------------------------------------------------------------------------------------
-
-/// A silica calibration of eqs (5)–(6) (examples/calibration/silica.toml as of commit 3305ac5), fixed here so
-/// the test does not move when the calibration is regenerated.
-PropertyEvolution silicaEvolution() {
-    PropertyEvolution e;
-    e.a = {1.289909578910843, -3.792113559430187, 2.381399216042253};
-    e.b0 = {-0.7066063942831287, 2.1324617475069285, -1.445761720071556};
-    e.b1 = {0.18795409536328947, -0.869944534247202, 1.465802490870222};
-    e.young = 72.5;
-    e.poisson = 0.17;
-    e.poisson_max = 0.2494778890865429;
-    return e;
-}
 
 TEST(PropertyEvolution, StartsAtTheCalibrationAndEndsAtPlus46PercentWithNuCapped) {
     const PropertyEvolution e = silicaEvolution();

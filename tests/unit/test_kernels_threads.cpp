@@ -141,45 +141,5 @@ TEST(Integrator, RotationSeriesMatchesTheExponentialMap) {
     EXPECT_LT(worst, 1e-15);
 }
 
-TEST(BeamKernel, PairedLanePathMatchesTheScalarLawPerBond) {
-    // computeBeamLoads evaluates bonds two at a time in SSE2 lanes (kernels/beam.hpp,
-    // beamKinematicsSmallAngles2) and sends bonds with an angle beyond the series range to the scalar path.
-    // Every bond's loads must equal the scalar law, EulerBernoulliBeam::evaluate(beamKinematics(…)), to
-    // round-off: the two differ only in the order of operations inside the quaternion products and cross
-    // products (≈ 1e-16 relative on the angles, loads linear in them). 1e-12 of each bond's load scale. Some
-    // particles are turned by 0.3–0.6 rad so that bonds on both paths, and pairs mixing them, are checked.
-    Model m = agitatedLattice();
-    for (std::size_t q = 0; q < m.particles.size(); q += 97) {
-        const Quat turn(Eigen::AngleAxisd(0.3 + 0.3 * static_cast<double>(q % 3) / 2.0, Vec3(1.0, 0.5, -0.2).normalized()));
-        storeQuat(m.particles.orientation.data(), q, turn * loadQuat(m.particles.orientation.data(), q));
-    }
-    m.bonds.broken[5] = 1;
-    const BondView b = m.bonds.view();
-    const ParticleView p = m.particles.view();
-    computeBeamLoads(b, p);
-    double worst = 0.0;
-    int large = 0;
-    for (std::size_t k = 0; k < b.n; ++k) {
-        const std::size_t i = static_cast<std::size_t>(b.i[k]);
-        const std::size_t j = static_cast<std::size_t>(b.j[k]);
-        const BeamKinematics kin = beamKinematics(load3(p.position, i), load3(p.position, j), loadQuat(p.orientation, i),
-                                                  loadQuat(p.orientation, j), load3(b.axis_i, k), load3(b.axis_j, k),
-                                                  loadQuat(b.twist_ref, k), b.rest_length[k]);
-        BeamLoads ref = EulerBernoulliBeam::make(b.young[k], b.shear[k], b.section_radius[k], b.rest_length[k]).evaluate(kin);
-        if (b.broken[k]) {
-            ref = BeamLoads{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-        }
-        large += kin.theta_i.norm() > 0.249 || kin.theta_j.norm() > 0.249;
-        const double fs = ref.force_i.norm() + 1e-300;
-        const double ts = ref.torque_i.norm() + ref.torque_j.norm() + 1e-300;
-        worst = std::max({worst, (load3(b.force, k) - ref.force_i).norm() / fs,
-                          (load3(b.torque_i, k) - ref.torque_i).norm() / ts, (load3(b.torque_j, k) - ref.torque_j).norm() / ts});
-    }
-    RecordProperty("worst_relative", std::to_string(worst / 1e-16) + "e-16");
-    RecordProperty("bonds_beyond_series_range", std::to_string(large));
-    EXPECT_GT(large, 0);
-    EXPECT_LT(worst, 1e-12);
-}
-
 } // namespace
 } // namespace vitrum

@@ -1,0 +1,455 @@
+// The beam pass W bonds at a time in SIMD lanes (W = 2: SSE2, W = 4: AVX2), kinematics, spring-slider
+// check, beam law (paper eqs 1–4, kernels/beam.hpp), bond-viscous dashpots and the store, all lane-wise.
+//
+// Lanes are GCC vector-extension doubles: every operation is element-wise IEEE (no FMA: the build has none
+// and the AVX2 translation unit enables "avx2" only), so a lane computes exactly what a scalar evaluation of
+// the same expression in the same order would. The lane expressions below are written in the order of the
+// scalar code they mirror (EulerBernoulliBeam::make and ::evaluate, densify and the dashpots), which makes
+// the W = 2 and W = 4 passes bit-identical to each other (tested: BeamKernel.LaneWidthsAreBitIdentical), so
+// which one a machine dispatches to never changes a result or a state_sha256.
+//
+// A bond leaves the lanes for the scalar path (decided per bond, never by the thread split) when it is
+// broken (zero loads), when one of its angles lies beyond the series range of beam.hpp (full scalar
+// kinematics with atan2), or when its slider slips in this step (densify: return mapping and property
+// evolution). The lane results of the other bonds of its block are stored as usual.
+//
+// Internal to the kernels: included only by bond_kernels.cpp (W = 2) and bond_kernels_avx2.cpp (W = 4, under
+// `#pragma GCC target("avx2")`). Everything here has internal linkage on purpose: the AVX2 unit's copies of
+// these functions must never be merged by the linker with the baseline unit's (a machine without AVX2 would
+// then execute AVX2 code).
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "kernels/beam.hpp"
+#include "kernels/bond_kernels.hpp"
+#include "kernels/densification.hpp"
+#include "kernels/parallel.hpp"
+#include "kernels/views.hpp"
+
+namespace vitrum {
+namespace {
+
+// ---- lane types ---------------------------------------------------------------------------------------------
+template <int W>
+struct Lanes;
+template <>
+struct Lanes<2> {
+    using Real = double __attribute__((vector_size(16)));
+    using Mask = std::int64_t __attribute__((vector_size(16)));
+};
+template <>
+struct Lanes<4> {
+    using Real = double __attribute__((vector_size(32)));
+    using Mask = std::int64_t __attribute__((vector_size(32)));
+};
+
+template <int W>
+struct Vec3L {
+    typename Lanes<W>::Real x, y, z;
+};
+template <int W>
+struct QuatL {
+    typename Lanes<W>::Real w, x, y, z;
+};
+
+template <int W>
+inline Vec3L<W> cross(const Vec3L<W>& a, const Vec3L<W>& b) noexcept {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+template <int W>
+inline typename Lanes<W>::Real dot(const Vec3L<W>& a, const Vec3L<W>& b) noexcept {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+/// q v q*, as Eigen's _transformVector: t = 2 q.vec × v; v + w t + q.vec × t.
+template <int W>
+inline Vec3L<W> rotate(const QuatL<W>& q, const Vec3L<W>& v) noexcept {
+    const Vec3L<W> u{q.x, q.y, q.z};
+    Vec3L<W> t = cross(u, v);
+    t = {2.0 * t.x, 2.0 * t.y, 2.0 * t.z};
+    const Vec3L<W> c = cross(u, t);
+    return {v.x + q.w * t.x + c.x, v.y + q.w * t.y + c.y, v.z + q.w * t.z + c.z};
+}
+template <int W>
+inline QuatL<W> mul(const QuatL<W>& a, const QuatL<W>& b) noexcept {
+    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+            a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z, a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x};
+}
+/// atanOverArgSeries of beam.hpp, lane-wise (same operations in the same order).
+template <class Real>
+inline Real atanOverArgSeriesL(Real x) noexcept {
+    const Real x2 = x * x;
+    const Real x4 = x2 * x2;
+    const Real q01 = -1.0 / 3.0 + x * (1.0 / 5.0);
+    const Real q23 = -1.0 / 7.0 + x * (1.0 / 9.0);
+    const Real q45 = -1.0 / 11.0 + x * (1.0 / 13.0);
+    const Real q67 = -1.0 / 15.0 + x * (1.0 / 17.0);
+    const Real q = (q01 + x2 * q23) + x4 * (q45 + x2 * q67);
+    return 1.0 + x * q;
+}
+template <class Real>
+inline Real sqrtL(Real x) noexcept {
+    constexpr int kW = sizeof(Real) / sizeof(double);
+    Real r;
+    for (int l = 0; l < kW; ++l) {
+        r[l] = std::sqrt(x[l]);
+    }
+    return r;
+}
+
+// ---- gathers and stores -------------------------------------------------------------------------------------
+/// Indices of a block's W bonds; lanes past the last bond repeat it (computed, never stored).
+template <int W>
+struct Block {
+    std::size_t k[W];
+    std::size_t i[W];
+    std::size_t j[W];
+    int count; ///< lanes holding real bonds
+};
+
+template <int W>
+inline Block<W> blockOf(const BondView& b, std::size_t m) noexcept {
+    Block<W> blk;
+    const std::size_t first = static_cast<std::size_t>(W) * m;
+    blk.count = first + W <= b.n ? W : static_cast<int>(b.n - first);
+    for (int l = 0; l < W; ++l) {
+        blk.k[l] = l < blk.count ? first + static_cast<std::size_t>(l) : b.n - 1;
+        blk.i[l] = static_cast<std::size_t>(b.i[blk.k[l]]);
+        blk.j[l] = static_cast<std::size_t>(b.j[blk.k[l]]);
+    }
+    return blk;
+}
+template <int W>
+inline typename Lanes<W>::Real gather1(const double* a, const std::size_t (&idx)[W]) noexcept {
+    typename Lanes<W>::Real r;
+    for (int l = 0; l < W; ++l) {
+        r[l] = a[idx[l]];
+    }
+    return r;
+}
+template <int W>
+inline Vec3L<W> gather3(const double* a, const std::size_t (&idx)[W]) noexcept {
+    Vec3L<W> r;
+    for (int l = 0; l < W; ++l) {
+        r.x[l] = a[3 * idx[l]];
+        r.y[l] = a[3 * idx[l] + 1];
+        r.z[l] = a[3 * idx[l] + 2];
+    }
+    return r;
+}
+template <int W>
+inline QuatL<W> gather4(const double* a, const std::size_t (&idx)[W]) noexcept {
+    QuatL<W> r;
+    for (int l = 0; l < W; ++l) {
+        r.w[l] = a[4 * idx[l]];
+        r.x[l] = a[4 * idx[l] + 1];
+        r.y[l] = a[4 * idx[l] + 2];
+        r.z[l] = a[4 * idx[l] + 3];
+    }
+    return r;
+}
+template <int W>
+inline Vec3 laneOf(const Vec3L<W>& v, int l) noexcept {
+    return Vec3(v.x[l], v.y[l], v.z[l]);
+}
+template <int W>
+inline void storeLane(double* a, std::size_t k, const Vec3L<W>& v, int l) noexcept {
+    a[3 * k] = v.x[l];
+    a[3 * k + 1] = v.y[l];
+    a[3 * k + 2] = v.z[l];
+}
+
+// ---- kinematics ---------------------------------------------------------------------------------------------
+/// beamKinematics of W bonds in the series branch (beam.hpp), component by component. `in_range` is −1
+/// (all bits) in a lane whose three angles lie in the series range; elsewhere the lane's values are not
+/// used. Eigen's operation order differs from these formulas inside the quaternion products, so a lane
+/// agrees with beamKinematics to round-off, not bit for bit (BeamKernel.LanePathMatchesTheScalarLawPerBond).
+template <int W>
+struct KinematicsL {
+    using Real = typename Lanes<W>::Real;
+    Vec3L<W> axis;
+    Real length;
+    Real stretch;
+    Vec3L<W> theta_i;
+    Vec3L<W> theta_j;
+    Real twist;
+    typename Lanes<W>::Mask in_range;
+
+    BeamKinematics lane(int l) const noexcept {
+        return {laneOf(axis, l), length[l], stretch[l], laneOf(theta_i, l), laneOf(theta_j, l), twist[l]};
+    }
+};
+
+template <int W>
+inline KinematicsL<W> kinematicsL(const BondView& b, const ParticleView& p, const Block<W>& blk) noexcept {
+    using Real = typename Lanes<W>::Real;
+    const Vec3L<W> xi = gather3<W>(p.position, blk.i);
+    const Vec3L<W> xj = gather3<W>(p.position, blk.j);
+    const QuatL<W> qi = gather4<W>(p.orientation, blk.i);
+    const QuatL<W> qj = gather4<W>(p.orientation, blk.j);
+    const Vec3L<W> ai = gather3<W>(b.axis_i, blk.k);
+    const Vec3L<W> aj = gather3<W>(b.axis_j, blk.k);
+    const QuatL<W> ref = gather4<W>(b.twist_ref, blk.k);
+    const Real rest_length = gather1<W>(b.rest_length, blk.k);
+
+    KinematicsL<W> k;
+    const Vec3L<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
+    k.length = sqrtL(dot(d, d));
+    const Real inv_length = 1.0 / k.length;
+    const Vec3L<W> mi = rotate(qi, ai);
+    const Vec3L<W> mj = rotate(qj, aj);
+    const Vec3L<W> ci = cross(d, mi);
+    const Vec3L<W> cj = cross(d, mj);
+    const Real s2i = dot(ci, ci);
+    const Real s2j = dot(cj, cj);
+    const Real cos_i = dot(d, mi);
+    const Real cos_j = dot(d, mj);
+    const Real den_i = k.length + cos_i;
+    const Real den_j = k.length + cos_j;
+    const Real inv_i = 1.0 / den_i;
+    const Real inv_j = 1.0 / den_j;
+    const Real fi = 2.0 * inv_i * atanOverArgSeriesL(s2i * (inv_i * inv_i));
+    const Real fj = 2.0 * inv_j * atanOverArgSeriesL(s2j * (inv_j * inv_j));
+    const QuatL<W> conj_qi{qi.w, -qi.x, -qi.y, -qi.z};
+    const QuatL<W> rel = mul(mul(qj, ref), conj_qi);
+    const Real along = rel.x * d.x + rel.y * d.y + rel.z * d.z;
+    const Real w = k.length * rel.w;
+    const Real tau = along / w;
+    k.twist = 2.0 * tau * atanOverArgSeriesL(tau * tau);
+    k.axis = {d.x * inv_length, d.y * inv_length, d.z * inv_length};
+    k.stretch = k.length - rest_length;
+    k.theta_i = {fi * ci.x, fi * ci.y, fi * ci.z};
+    k.theta_j = {fj * cj.x, fj * cj.y, fj * cj.z};
+    k.in_range = (cos_i > 0.0) & (s2i <= kAtanSeriesLimit * (den_i * den_i)) & (cos_j > 0.0) &
+                 (s2j <= kAtanSeriesLimit * (den_j * den_j)) & (w != 0.0) &
+                 (along * along <= kAtanSeriesLimit * (w * w));
+    return k;
+}
+
+// ---- the scalar path ----------------------------------------------------------------------------------------
+inline BeamKinematics kinematicsOf(const BondView& b, const ParticleView& p, std::size_t k) {
+    const std::size_t i = static_cast<std::size_t>(b.i[k]);
+    const std::size_t j = static_cast<std::size_t>(b.j[k]);
+    return beamKinematics(load3(p.position, i), load3(p.position, j), loadQuat(p.orientation, i),
+                          loadQuat(p.orientation, j), load3(b.axis_i, k), load3(b.axis_j, k),
+                          loadQuat(b.twist_ref, k), b.rest_length[k]);
+}
+
+inline EulerBernoulliBeam lawOf(const BondView& b, std::size_t k) {
+    return EulerBernoulliBeam::make(b.young[k], b.shear[k], b.section_radius[k], b.rest_length[k]);
+}
+
+/// Densification of bond k (kernels/densification.hpp): the slider's return mapping on the axial strain,
+/// then, if it slipped and the properties evolve, the new E_μ, G_μ, section radius and the rescaled
+/// references that keep N, the shear force and the moments continuous. Writes the bond's state and
+/// properties (the kernel's own bond only) and returns its beam law; `kin` is updated to the new references.
+template <bool Evolve>
+EulerBernoulliBeam densify(const DensificationLaw& law, const DensificationView& d, const ParticleView& p,
+                           const BondView& b, std::size_t k, BeamKinematics& kin) {
+    const double l0 = b.rest_length[k];
+    const double strain = kin.stretch / l0;
+    const SliderState old{d.slip[k], d.reference_strain[k]};
+    double section_factor = 1.0; // S/S₀: the slider works with the nominal stress N/S₀
+    if constexpr (Evolve) {
+        // An undensified bond (slip 0, nearly all of them) has r̃(0)/r̃(0) = 1 exactly: skip eqs 5–6 there.
+        if (old.slip != 0.0) {
+            const double r = law.evolution.scaleAt(old.slip / law.slider.max_slip).radius_ratio;
+            section_factor = r * r;
+        }
+    }
+    const SliderResult result = law.slider.update(old, strain, d.young[k] * section_factor);
+    SliderState next = result.state;
+    if constexpr (Evolve) {
+        if (result.slipped) {
+            const PropertyEvolution::Micro before = law.evolution.scaleAt(old.slip / law.slider.max_slip);
+            const PropertyEvolution::Micro after = law.evolution.scaleAt(next.slip / law.slider.max_slip);
+            const double young_factor = after.beam_young / before.beam_young;
+            const double radius_factor = after.radius_ratio / before.radius_ratio;
+            const StiffnessRatios ratio = stiffnessRatios(young_factor, radius_factor);
+            // Axial: (E S)_new (ε − ε_r') = (E S)_old (ε − ε_r).
+            next.reference_strain = strain - ratio.axial * (strain - next.reference_strain);
+            d.young[k] *= young_factor;
+            d.shear[k] *= young_factor;
+            d.section_radius[k] *= radius_factor;
+            // Bending and twist: (E I)_new θ' = (E I)_old θ, by moving the section normals towards the
+            // chord and turning the twist reference about it.
+            const std::size_t i = static_cast<std::size_t>(b.i[k]);
+            const std::size_t j = static_cast<std::size_t>(b.j[k]);
+            const Quat qi = loadQuat(p.orientation, i);
+            const Quat qj = loadQuat(p.orientation, j);
+            kin.theta_i *= ratio.bending;
+            kin.theta_j *= ratio.bending;
+            const auto normalOf = [&](const Vec3& theta) {
+                const double angle = theta.norm();
+                return angle > 0.0 ? Vec3(Eigen::AngleAxisd(angle, theta / angle) * kin.axis) : kin.axis;
+            };
+            store3(d.axis_i, k, qi.conjugate() * normalOf(kin.theta_i));
+            store3(d.axis_j, k, qj.conjugate() * normalOf(kin.theta_j));
+            const double twist_change = (ratio.bending - 1.0) * kin.twist;
+            kin.twist += twist_change;
+            const Quat turn(Eigen::AngleAxisd(twist_change, kin.axis));
+            storeQuat(d.twist_ref, k, (qj.conjugate() * turn * qj * loadQuat(d.twist_ref, k)).normalized());
+        }
+    }
+    d.slip[k] = next.slip;
+    d.reference_strain[k] = next.reference_strain;
+    kin.stretch = (strain - next.reference_strain) * l0;
+    return EulerBernoulliBeam::make(d.young[k], d.shear[k], d.section_radius[k], l0);
+}
+
+/// Everything after the kinematics for bond k on the scalar path: densification, the beam law, dashpots,
+/// the store.
+template <bool Viscous, int Densify>
+inline void finishBond(const BondView& b, const ParticleView& p, const detail::BeamPass& pass, std::size_t k,
+                       BeamKinematics kin) {
+    EulerBernoulliBeam law{};
+    if constexpr (Densify > 0) {
+        law = densify<Densify == 2>(*pass.law, *pass.state, p, b, k, kin);
+    } else {
+        law = lawOf(b, k);
+    }
+    BeamLoads loads = law.evaluate(kin);
+    if constexpr (Viscous) {
+        const std::size_t i = static_cast<std::size_t>(b.i[k]);
+        const std::size_t j = static_cast<std::size_t>(b.j[k]);
+        const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+        const double j_eff = p.inertia[i] * p.inertia[j] / (p.inertia[i] + p.inertia[j]);
+        const double c_axial = pass.damping_ratio * 2.0 * std::sqrt(m_eff * law.axial_stiffness);
+        const double c_rot = pass.damping_ratio * 2.0 * std::sqrt(j_eff * 2.0 * law.bending_stiffness);
+        const double axial_rate = (load3(p.velocity, j) - load3(p.velocity, i)).dot(kin.axis);
+        const Vec3 spin_rate = load3(p.angular_velocity, j) - load3(p.angular_velocity, i);
+        loads.force_i += (c_axial * axial_rate) * kin.axis;
+        loads.torque_i += c_rot * spin_rate;
+        loads.torque_j -= c_rot * spin_rate;
+    }
+    store3(b.force, k, loads.force_i);
+    store3(b.torque_i, k, loads.torque_i);
+    store3(b.torque_j, k, loads.torque_j);
+}
+
+// ---- the lane pass ------------------------------------------------------------------------------------------
+/// Bonds in fixed blocks (W m … W m + W − 1): kinematics, slider check, beam law, dashpots in lanes; a bond
+/// that is broken, out of the series range or slipping takes the scalar path (see the file header).
+template <int W, bool Viscous, int Densify>
+void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
+    using Real = typename Lanes<W>::Real;
+    using Mask = typename Lanes<W>::Mask;
+    const char* label = Densify ? "bonds.beam_loads+densification" : "bonds.beam_loads";
+    parallelFor(label, (b.n + W - 1) / W, [&](std::size_t m) {
+        const Block<W> blk = blockOf<W>(b, m);
+        const KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
+        const Real l0 = gather1<W>(b.rest_length, blk.k);
+        Real stretch = kin.stretch;
+        Mask slipping{};
+        Real young, shear, radius;
+        if constexpr (Densify > 0) {
+            // densify() of a bond that does not slip: the same expressions, lane-wise.
+            const DensificationLaw& law = *pass.law;
+            const DensificationView& d = *pass.state;
+            const Real strain = kin.stretch / l0;
+            const Real slip = gather1<W>(d.slip, blk.k);
+            const Real reference = gather1<W>(d.reference_strain, blk.k);
+            young = gather1<W>(d.young, blk.k);
+            shear = gather1<W>(d.shear, blk.k);
+            radius = gather1<W>(d.section_radius, blk.k);
+            Real section_factor = Real{} + 1.0;
+            if constexpr (Densify == 2) {
+                for (int l = 0; l < W; ++l) {
+                    if (slip[l] != 0.0) {
+                        const double r = law.evolution.scaleAt(slip[l] / law.slider.max_slip).radius_ratio;
+                        section_factor[l] = r * r;
+                    }
+                }
+            }
+            const Real stress = (young * section_factor) * (strain - reference);
+            const Real excess = -stress - (law.slider.yield_stress + law.slider.hardening * slip);
+            slipping = (excess > 0.0) & (slip < law.slider.max_slip);
+            stretch = (strain - reference) * l0;
+        } else {
+            young = gather1<W>(b.young, blk.k);
+            shear = gather1<W>(b.shear, blk.k);
+            radius = gather1<W>(b.section_radius, blk.k);
+        }
+        // EulerBernoulliBeam::make
+        const Real r2 = radius * radius;
+        const Real area = std::numbers::pi * r2;
+        const Real second_moment = 0.25 * std::numbers::pi * r2 * r2;
+        const Real polar_moment = 2.0 * second_moment;
+        const Real inv_rest = 1.0 / l0;
+        const Real axial_stiffness = young * area * inv_rest;
+        const Real bending_stiffness = 2.0 * young * second_moment * inv_rest;
+        const Real torsion_stiffness = shear * polar_moment * inv_rest;
+        // EulerBernoulliBeam::evaluate
+        const Real normal_force = axial_stiffness * stretch;
+        const Vec3L<W> bend_sum{kin.theta_i.x + kin.theta_j.x, kin.theta_i.y + kin.theta_j.y,
+                                kin.theta_i.z + kin.theta_j.z};
+        const Real shear_factor = 3.0 * bending_stiffness / kin.length;
+        const Vec3L<W> c = cross(kin.axis, bend_sum);
+        Vec3L<W> force{normal_force * kin.axis.x + shear_factor * c.x, normal_force * kin.axis.y + shear_factor * c.y,
+                       normal_force * kin.axis.z + shear_factor * c.z};
+        const Real twist_moment = torsion_stiffness * kin.twist;
+        const Vec3L<W> twist_torque{twist_moment * kin.axis.x, twist_moment * kin.axis.y, twist_moment * kin.axis.z};
+        Vec3L<W> torque_i{twist_torque.x - bending_stiffness * (2.0 * kin.theta_i.x + kin.theta_j.x),
+                          twist_torque.y - bending_stiffness * (2.0 * kin.theta_i.y + kin.theta_j.y),
+                          twist_torque.z - bending_stiffness * (2.0 * kin.theta_i.z + kin.theta_j.z)};
+        Vec3L<W> torque_j{-twist_torque.x - bending_stiffness * (kin.theta_i.x + 2.0 * kin.theta_j.x),
+                          -twist_torque.y - bending_stiffness * (kin.theta_i.y + 2.0 * kin.theta_j.y),
+                          -twist_torque.z - bending_stiffness * (kin.theta_i.z + 2.0 * kin.theta_j.z)};
+        if constexpr (Viscous) {
+            // the dashpots of finishBond
+            const Real mi = gather1<W>(p.mass, blk.i);
+            const Real mj = gather1<W>(p.mass, blk.j);
+            const Real ii = gather1<W>(p.inertia, blk.i);
+            const Real ij = gather1<W>(p.inertia, blk.j);
+            const Real m_eff = mi * mj / (mi + mj);
+            const Real j_eff = ii * ij / (ii + ij);
+            const Real c_axial = pass.damping_ratio * 2.0 * sqrtL(m_eff * axial_stiffness);
+            const Real c_rot = pass.damping_ratio * 2.0 * sqrtL(j_eff * 2.0 * bending_stiffness);
+            const Vec3L<W> vi = gather3<W>(p.velocity, blk.i);
+            const Vec3L<W> vj = gather3<W>(p.velocity, blk.j);
+            const Vec3L<W> dv{vj.x - vi.x, vj.y - vi.y, vj.z - vi.z};
+            const Real axial_rate = dot(dv, kin.axis);
+            const Vec3L<W> wi = gather3<W>(p.angular_velocity, blk.i);
+            const Vec3L<W> wj = gather3<W>(p.angular_velocity, blk.j);
+            const Vec3L<W> spin{wj.x - wi.x, wj.y - wi.y, wj.z - wi.z};
+            const Real damper = c_axial * axial_rate;
+            force = {force.x + damper * kin.axis.x, force.y + damper * kin.axis.y, force.z + damper * kin.axis.z};
+            torque_i = {torque_i.x + c_rot * spin.x, torque_i.y + c_rot * spin.y, torque_i.z + c_rot * spin.z};
+            torque_j = {torque_j.x - c_rot * spin.x, torque_j.y - c_rot * spin.y, torque_j.z - c_rot * spin.z};
+        }
+        for (int l = 0; l < blk.count; ++l) {
+            const std::size_t k = blk.k[l];
+            if (b.broken[k]) {
+                store3(b.force, k, Vec3::Zero());
+                store3(b.torque_i, k, Vec3::Zero());
+                store3(b.torque_j, k, Vec3::Zero());
+            } else if (kin.in_range[l] == 0) {
+                finishBond<Viscous, Densify>(b, p, pass, k, kinematicsOf(b, p, k));
+            } else if (slipping[l] != 0) {
+                finishBond<Viscous, Densify>(b, p, pass, k, kin.lane(l));
+            } else {
+                storeLane(b.force, k, force, l);
+                storeLane(b.torque_i, k, torque_i, l);
+                storeLane(b.torque_j, k, torque_j, l);
+            }
+        }
+    });
+}
+
+/// The pass of `pass` in W lanes (one instantiation per variant).
+template <int W>
+void beamPassInLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
+    switch (pass.densify + 3 * static_cast<int>(pass.viscous)) {
+    case 0: beamLoadsLanes<W, false, 0>(b, p, pass); break;
+    case 1: beamLoadsLanes<W, false, 1>(b, p, pass); break;
+    case 2: beamLoadsLanes<W, false, 2>(b, p, pass); break;
+    case 3: beamLoadsLanes<W, true, 0>(b, p, pass); break;
+    case 4: beamLoadsLanes<W, true, 1>(b, p, pass); break;
+    default: beamLoadsLanes<W, true, 2>(b, p, pass); break;
+    }
+}
+
+} // namespace
+} // namespace vitrum

@@ -1,0 +1,188 @@
+// The beam pass in SIMD lanes (kernels/beam_lanes.hpp): 2 lanes (SSE2) and 4 lanes (AVX2, where the CPU has
+// it) must give bit-identical results for every variant of the pass, so that the lane width a machine
+// dispatches to never changes a run or its state_sha256; and the lane path must agree with the scalar beam
+// law to round-off, including the bonds that leave the lanes (broken, beyond the series range, slipping).
+#include <algorithm>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "kernels/beam.hpp"
+#include "kernels/bond_kernels.hpp"
+#include "kernels/densification.hpp"
+#include "solver/model.hpp"
+#include "support/test_support.hpp"
+
+namespace vitrum {
+namespace {
+
+/// An FCC sphere of 6 000 particles (its bond count is a multiple of 4 by symmetry; the passes below take all
+/// but its last bond, `passView`, so the last block of the 4-lane pass is partial),
+/// every beam stretched, bent and twisted; every 97th particle turned by 0.3–0.6 rad (its bonds leave the
+/// series range), every 41st bond broken; with densification, bonds already slipped and bonds that slip now.
+Model laneTestModel(bool densify) {
+    Scene s;
+    s.sample.lattice = "fcc";
+    s.sample.shape = "sphere";
+    s.sample.radius = 3.0;
+    s.sample.particles = 6000;
+    s.source_path = "<test>";
+    Model m = buildModel(s, 1.0);
+    testing::agitate(m, 7, 1e-3);
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> g(0.0, 2e-3);
+    for (double& x : m.particles.position) x += g(rng);
+    for (std::size_t q = 0; q < m.particles.size(); ++q) {
+        const double angle = q % 97 == 0 ? 0.3 + 0.15 * static_cast<double>(q % 3) : 10.0 * g(rng);
+        const Quat turn(Eigen::AngleAxisd(angle, Vec3(1.0 + g(rng), 0.5, -0.2).normalized()));
+        storeQuat(m.particles.orientation.data(), q, turn * loadQuat(m.particles.orientation.data(), q));
+    }
+    for (std::size_t k = 0; k < m.bonds.size(); k += 41) {
+        m.bonds.broken[k] = 1;
+    }
+    if (densify) {
+        m.bonds.enableDensification();
+        for (std::size_t k = 3; k < m.bonds.size(); k += 13) {
+            m.bonds.slip[k] = 0.01 + 0.001 * static_cast<double>(k % 7); // densified earlier
+            m.bonds.reference_strain[k] = -m.bonds.slip[k];
+        }
+    }
+    return m;
+}
+
+DensificationLaw laneTestLaw(bool evolve, double young) {
+    DensificationLaw law;
+    // A yield stress low enough that the agitated lattice (axial strains up to ≈ 1 %) slips in a good share of
+    // its bonds in compression, and a hardening slider, so both slider branches run.
+    law.slider = SpringSlider::make(0.5, 98.82, 0.067, young);
+    law.evolve = evolve;
+    law.evolution = testing::silicaEvolution();
+    return law;
+}
+
+/// The bond view the passes take: every bond but the last (a partial last block for 4 lanes; see above).
+BondView passView(Model& m) {
+    BondView b = m.bonds.view();
+    b.n -= 1 + m.bonds.size() % 4;
+    return b;
+}
+DensificationView passDensificationView(Model& m) {
+    DensificationView d = m.bonds.densificationView();
+    d.n = passView(m).n;
+    return d;
+}
+
+/// Every array the pass writes.
+std::vector<double> passOutputs(const Model& m) {
+    std::vector<double> out(m.bonds.force);
+    for (const std::vector<double>* a : {&m.bonds.torque_i, &m.bonds.torque_j, &m.bonds.slip, &m.bonds.reference_strain,
+                                         &m.bonds.young, &m.bonds.shear, &m.bonds.section_radius, &m.bonds.axis_i,
+                                         &m.bonds.axis_j, &m.bonds.twist_ref}) {
+        out.insert(out.end(), a->begin(), a->end());
+    }
+    return out;
+}
+
+/// Variant: 0 plain, 1 bond-viscous, 2 slider, 3 slider + evolution, 4 viscous + slider + evolution.
+std::vector<double> runPass(int variant, int lanes, int* slipped = nullptr) {
+    EXPECT_TRUE(setBeamLanes(lanes));
+    Model m = laneTestModel(variant >= 2);
+    const DensificationLaw law = laneTestLaw(variant >= 3, m.bonds.young.empty() ? 0.0 : m.bonds.young[0]);
+    const std::vector<double> slip_before = m.bonds.slip;
+    switch (variant) {
+    case 0: computeBeamLoads(passView(m), m.particles.view()); break;
+    case 1: computeBeamLoads(passView(m), m.particles.view(), BondViscousDamping{0.1}); break;
+    case 4:
+        computeBeamLoads(passView(m), m.particles.view(), BondViscousDamping{0.1}, law, passDensificationView(m));
+        break;
+    default: computeBeamLoads(passView(m), m.particles.view(), law, passDensificationView(m)); break;
+    }
+    setBeamLanes(0);
+    if (slipped != nullptr) {
+        *slipped = 0;
+        for (std::size_t k = 0; k < slip_before.size(); ++k) {
+            *slipped += m.bonds.slip[k] != slip_before[k];
+        }
+    }
+    return passOutputs(m);
+}
+
+TEST(BeamLanes, TheAutomaticChoiceIsAvx2WhereTheCpuHasIt) {
+    EXPECT_EQ(beamLanes(), __builtin_cpu_supports("avx2") ? 4 : 2);
+    EXPECT_FALSE(setBeamLanes(3));
+    EXPECT_FALSE(setBeamLanes(8));
+    EXPECT_EQ(beamLanes(), __builtin_cpu_supports("avx2") ? 4 : 2); // a refused width changes nothing
+}
+
+TEST(BeamLanes, LaneWidthsAreBitIdentical) {
+    if (!__builtin_cpu_supports("avx2")) {
+        GTEST_SKIP() << "CPU without AVX2: only the 2-lane pass exists here";
+    }
+    for (int variant = 0; variant < 5; ++variant) {
+        int slipped = 0;
+        const std::vector<double> two = runPass(variant, 2, &slipped);
+        const std::vector<double> four = runPass(variant, 4);
+        ASSERT_EQ(two.size(), four.size());
+        std::size_t differing = 0;
+        for (std::size_t e = 0; e < two.size(); ++e) {
+            differing += std::memcmp(&two[e], &four[e], sizeof(double)) != 0;
+        }
+        EXPECT_EQ(differing, 0u) << "variant " << variant;
+        if (variant >= 2) {
+            // The slipping bonds take the scalar path: the test must exercise it.
+            EXPECT_GT(slipped, 100) << "variant " << variant;
+            RecordProperty("slipped_bonds_variant_" + std::to_string(variant), slipped);
+        }
+    }
+}
+
+TEST(BeamLanes, LanePathMatchesTheScalarLawPerBond) {
+    // Every bond's loads from the lane pass against EulerBernoulliBeam::evaluate(beamKinematics(…)) for the same
+    // bond, at both widths. They differ only in the order of operations inside the quaternion products (lane
+    // kinematics, ≈ 1e-16 relative on the angles; the loads are linear in them): 1e-12 of each bond's load
+    // scale leaves four orders of magnitude for that and catches any wrong term. Bonds beyond the series range
+    // (turned particles) and broken bonds are among them.
+    for (int lanes : {2, 4}) {
+        if (lanes == 4 && !__builtin_cpu_supports("avx2")) {
+            continue;
+        }
+        ASSERT_TRUE(setBeamLanes(lanes));
+        Model m = laneTestModel(false);
+        const BondView b = passView(m);
+        ASSERT_NE(b.n % 4, 0u);
+        const ParticleView p = m.particles.view();
+        computeBeamLoads(b, p);
+        setBeamLanes(0);
+        double worst = 0.0;
+        int large = 0;
+        int broken = 0;
+        for (std::size_t k = 0; k < b.n; ++k) {
+            const std::size_t i = static_cast<std::size_t>(b.i[k]);
+            const std::size_t j = static_cast<std::size_t>(b.j[k]);
+            const BeamKinematics kin = beamKinematics(load3(p.position, i), load3(p.position, j), loadQuat(p.orientation, i),
+                                                      loadQuat(p.orientation, j), load3(b.axis_i, k), load3(b.axis_j, k),
+                                                      loadQuat(b.twist_ref, k), b.rest_length[k]);
+            BeamLoads ref = EulerBernoulliBeam::make(b.young[k], b.shear[k], b.section_radius[k], b.rest_length[k]).evaluate(kin);
+            if (b.broken[k]) {
+                ref = BeamLoads{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+                ++broken;
+            }
+            large += kin.theta_i.norm() > 0.249 || kin.theta_j.norm() > 0.249;
+            const double fs = ref.force_i.norm() + 1e-300;
+            const double ts = ref.torque_i.norm() + ref.torque_j.norm() + 1e-300;
+            worst = std::max({worst, (load3(b.force, k) - ref.force_i).norm() / fs,
+                              (load3(b.torque_i, k) - ref.torque_i).norm() / ts,
+                              (load3(b.torque_j, k) - ref.torque_j).norm() / ts});
+        }
+        RecordProperty("worst_relative_" + std::to_string(lanes) + "_lanes", std::to_string(worst / 1e-16) + "e-16");
+        EXPECT_GT(large, 0);
+        EXPECT_GT(broken, 0);
+        EXPECT_LT(worst, 1e-12) << lanes << " lanes";
+    }
+}
+
+} // namespace
+} // namespace vitrum
