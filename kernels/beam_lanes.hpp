@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "kernels/beam.hpp"
 #include "kernels/bond_kernels.hpp"
@@ -121,34 +122,28 @@ inline Block<W> blockOf(const BondView& b, std::size_t m) noexcept {
     }
     return blk;
 }
+// Each lane vector is built in one brace initialisation from its W scalars, which the compiler assembles in
+// registers (element-by-element writes to a vector would go through the stack).
+template <int W, std::size_t... L>
+inline typename Lanes<W>::Real gatherStrided(const double* a, const std::size_t (&idx)[W], std::size_t stride,
+                                             std::size_t offset, std::index_sequence<L...>) noexcept {
+    return typename Lanes<W>::Real{a[stride * idx[L] + offset]...};
+}
 template <int W>
 inline typename Lanes<W>::Real gather1(const double* a, const std::size_t (&idx)[W]) noexcept {
-    typename Lanes<W>::Real r;
-    for (int l = 0; l < W; ++l) {
-        r[l] = a[idx[l]];
-    }
-    return r;
+    return gatherStrided<W>(a, idx, 1, 0, std::make_index_sequence<W>{});
 }
 template <int W>
 inline Vec3L<W> gather3(const double* a, const std::size_t (&idx)[W]) noexcept {
-    Vec3L<W> r;
-    for (int l = 0; l < W; ++l) {
-        r.x[l] = a[3 * idx[l]];
-        r.y[l] = a[3 * idx[l] + 1];
-        r.z[l] = a[3 * idx[l] + 2];
-    }
-    return r;
+    constexpr auto lanes = std::make_index_sequence<W>{};
+    return {gatherStrided<W>(a, idx, 3, 0, lanes), gatherStrided<W>(a, idx, 3, 1, lanes),
+            gatherStrided<W>(a, idx, 3, 2, lanes)};
 }
 template <int W>
 inline QuatL<W> gather4(const double* a, const std::size_t (&idx)[W]) noexcept {
-    QuatL<W> r;
-    for (int l = 0; l < W; ++l) {
-        r.w[l] = a[4 * idx[l]];
-        r.x[l] = a[4 * idx[l] + 1];
-        r.y[l] = a[4 * idx[l] + 2];
-        r.z[l] = a[4 * idx[l] + 3];
-    }
-    return r;
+    constexpr auto lanes = std::make_index_sequence<W>{};
+    return {gatherStrided<W>(a, idx, 4, 0, lanes), gatherStrided<W>(a, idx, 4, 1, lanes),
+            gatherStrided<W>(a, idx, 4, 2, lanes), gatherStrided<W>(a, idx, 4, 3, lanes)};
 }
 template <int W>
 inline Vec3 laneOf(const Vec3L<W>& v, int l) noexcept {
@@ -183,7 +178,7 @@ struct KinematicsL {
 };
 
 template <int W>
-inline KinematicsL<W> kinematicsL(const BondView& b, const ParticleView& p, const Block<W>& blk) noexcept {
+[[gnu::always_inline]] inline KinematicsL<W> kinematicsL(const BondView& b, const ParticleView& p, const Block<W>& blk) noexcept {
     using Real = typename Lanes<W>::Real;
     const Vec3L<W> xi = gather3<W>(p.position, blk.i);
     const Vec3L<W> xj = gather3<W>(p.position, blk.j);
@@ -329,6 +324,37 @@ inline void finishBond(const BondView& b, const ParticleView& p, const detail::B
     store3(b.torque_j, k, loads.torque_j);
 }
 
+/// A bond off the lanes: finishBond with the lane's kinematics `lane`, or, when null, the scalar kinematics.
+/// Kept out of line so the rare path does not crowd the lane loop.
+template <bool Viscous, int Densify>
+[[gnu::noinline, gnu::cold]] void scalarBond(const BondView& b, const ParticleView& p, const detail::BeamPass& pass,
+                                             std::size_t k, const BeamKinematics* lane) {
+    finishBond<Viscous, Densify>(b, p, pass, k, lane != nullptr ? *lane : kinematicsOf(b, p, k));
+}
+
+template <class Mask>
+inline bool anyLane(Mask m) noexcept {
+    constexpr int kW = sizeof(Mask) / sizeof(std::int64_t);
+    std::int64_t any = 0;
+    for (int l = 0; l < kW; ++l) {
+        any |= m[l];
+    }
+    return any != 0;
+}
+
+/// S/S₀ = r̃(f)²/r̃(0)² per lane for the slider's nominal stress (densify): 1 where the slip is 0.
+template <int W>
+[[gnu::noinline]] typename Lanes<W>::Real sectionFactors(const DensificationLaw& law, typename Lanes<W>::Real slip) {
+    typename Lanes<W>::Real factor = typename Lanes<W>::Real{} + 1.0;
+    for (int l = 0; l < W; ++l) {
+        if (slip[l] != 0.0) {
+            const double r = law.evolution.scaleAt(slip[l] / law.slider.max_slip).radius_ratio;
+            factor[l] = r * r;
+        }
+    }
+    return factor;
+}
+
 // ---- the lane pass ------------------------------------------------------------------------------------------
 /// Bonds in fixed blocks (W m … W m + W − 1): kinematics, slider check, beam law, dashpots in lanes; a bond
 /// that is broken, out of the series range or slipping takes the scalar path (see the file header).
@@ -356,11 +382,8 @@ void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::Beam
             radius = gather1<W>(d.section_radius, blk.k);
             Real section_factor = Real{} + 1.0;
             if constexpr (Densify == 2) {
-                for (int l = 0; l < W; ++l) {
-                    if (slip[l] != 0.0) {
-                        const double r = law.evolution.scaleAt(slip[l] / law.slider.max_slip).radius_ratio;
-                        section_factor[l] = r * r;
-                    }
+                if (anyLane(slip != 0.0)) { // rare: a block with a bond densified earlier
+                    section_factor = sectionFactors<W>(law, slip);
                 }
             }
             const Real stress = (young * section_factor) * (strain - reference);
@@ -426,9 +449,10 @@ void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::Beam
                 store3(b.torque_i, k, Vec3::Zero());
                 store3(b.torque_j, k, Vec3::Zero());
             } else if (kin.in_range[l] == 0) {
-                finishBond<Viscous, Densify>(b, p, pass, k, kinematicsOf(b, p, k));
+                scalarBond<Viscous, Densify>(b, p, pass, k, nullptr);
             } else if (slipping[l] != 0) {
-                finishBond<Viscous, Densify>(b, p, pass, k, kin.lane(l));
+                const BeamKinematics lane = kin.lane(l);
+                scalarBond<Viscous, Densify>(b, p, pass, k, &lane);
             } else {
                 storeLane(b.force, k, force, l);
                 storeLane(b.torque_i, k, torque_i, l);
