@@ -338,56 +338,37 @@ void BM_StreamTriad(benchmark::State& state) {
 constexpr int kChains = 24;
 constexpr long kSweeps = 1L << 22;
 
-double peakLoopBuildIsa(double m, double a) {
-    double x[kChains];
-    for (int c = 0; c < kChains; ++c) {
+/// `Chains` independent chains x ← step(x) for kSweeps sweeps; inlined into each peak loop below, so it runs in
+/// that loop's instruction set.
+template <int Chains, class Step>
+[[gnu::always_inline]] inline double chainSweeps(Step step) {
+    double x[Chains];
+    for (int c = 0; c < Chains; ++c) {
         x[c] = 1.0 + 1e-3 * c;
     }
     for (long s = 0; s < kSweeps; ++s) {
-        for (int c = 0; c < kChains; ++c) {
-            x[c] = x[c] * m + a;
+        for (int c = 0; c < Chains; ++c) {
+            x[c] = step(x[c]);
         }
     }
     double sum = 0.0;
-    for (int c = 0; c < kChains; ++c) {
+    for (int c = 0; c < Chains; ++c) {
         sum += x[c];
     }
     return sum;
+}
+
+double peakLoopBuildIsa(double m, double a) {
+    return chainSweeps<kChains>([=](double x) { return x * m + a; });
 }
 
 constexpr int kChainsFma = 48;
 __attribute__((target("avx2,fma"))) double peakLoopFma(double m, double a) {
-    double x[kChainsFma];
-    for (int c = 0; c < kChainsFma; ++c) {
-        x[c] = 1.0 + 1e-3 * c;
-    }
-    for (long s = 0; s < kSweeps; ++s) {
-        for (int c = 0; c < kChainsFma; ++c) {
-            x[c] = __builtin_fma(x[c], m, a);
-        }
-    }
-    double sum = 0.0;
-    for (int c = 0; c < kChainsFma; ++c) {
-        sum += x[c];
-    }
-    return sum;
+    return chainSweeps<kChainsFma>([=](double x) { return __builtin_fma(x, m, a); });
 }
 
 __attribute__((target("avx2"))) double peakLoopAvx2(double m, double a) {
-    double x[kChainsFma];
-    for (int c = 0; c < kChainsFma; ++c) {
-        x[c] = 1.0 + 1e-3 * c;
-    }
-    for (long s = 0; s < kSweeps; ++s) {
-        for (int c = 0; c < kChainsFma; ++c) {
-            x[c] = x[c] * m + a;
-        }
-    }
-    double sum = 0.0;
-    for (int c = 0; c < kChainsFma; ++c) {
-        sum += x[c];
-    }
-    return sum;
+    return chainSweeps<kChainsFma>([=](double x) { return x * m + a; });
 }
 
 void BM_PeakFlops(benchmark::State& state) {

@@ -78,18 +78,6 @@ inline QuatL<W> mul(const QuatL<W>& a, const QuatL<W>& b) noexcept {
     return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
             a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z, a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x};
 }
-/// atanOverArgSeries of beam.hpp, lane-wise (same operations in the same order).
-template <class Real>
-inline Real atanOverArgSeriesL(Real x) noexcept {
-    const Real x2 = x * x;
-    const Real x4 = x2 * x2;
-    const Real q01 = -1.0 / 3.0 + x * (1.0 / 5.0);
-    const Real q23 = -1.0 / 7.0 + x * (1.0 / 9.0);
-    const Real q45 = -1.0 / 11.0 + x * (1.0 / 13.0);
-    const Real q67 = -1.0 / 15.0 + x * (1.0 / 17.0);
-    const Real q = (q01 + x2 * q23) + x4 * (q45 + x2 * q67);
-    return 1.0 + x * q;
-}
 template <class Real>
 inline Real sqrtL(Real x) noexcept {
     constexpr int kW = sizeof(Real) / sizeof(double);
@@ -205,14 +193,14 @@ template <int W>
     const Real den_j = k.length + cos_j;
     const Real inv_i = 1.0 / den_i;
     const Real inv_j = 1.0 / den_j;
-    const Real fi = 2.0 * inv_i * atanOverArgSeriesL(s2i * (inv_i * inv_i));
-    const Real fj = 2.0 * inv_j * atanOverArgSeriesL(s2j * (inv_j * inv_j));
+    const Real fi = 2.0 * inv_i * atanOverArgSeries(s2i * (inv_i * inv_i));
+    const Real fj = 2.0 * inv_j * atanOverArgSeries(s2j * (inv_j * inv_j));
     const QuatL<W> conj_qi{qi.w, -qi.x, -qi.y, -qi.z};
     const QuatL<W> rel = mul(mul(qj, ref), conj_qi);
     const Real along = rel.x * d.x + rel.y * d.y + rel.z * d.z;
     const Real w = k.length * rel.w;
     const Real tau = along / w;
-    k.twist = 2.0 * tau * atanOverArgSeriesL(tau * tau);
+    k.twist = 2.0 * tau * atanOverArgSeries(tau * tau);
     k.axis = {d.x * inv_length, d.y * inv_length, d.z * inv_length};
     k.stretch = k.length - rest_length;
     k.theta_i = {fi * ci.x, fi * ci.y, fi * ci.z};

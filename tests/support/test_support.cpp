@@ -48,6 +48,16 @@ double totalEnergy(Model& m) {
     return k.translational + k.rotational + beamStrainEnergy(m.bonds.view(), m.particles.view());
 }
 
+Model fccModel(const std::string& shape, double radius, int particles) {
+    Scene s;
+    s.sample.lattice = "fcc";
+    s.sample.shape = shape;
+    s.sample.radius = radius;
+    s.sample.particles = particles;
+    s.source_path = "<test>";
+    return buildModel(s, 1.0);
+}
+
 PropertyEvolution silicaEvolution() {
     PropertyEvolution e;
     e.a = {1.289909578910843, -3.792113559430187, 2.381399216042253};

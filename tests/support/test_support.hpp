@@ -18,6 +18,10 @@ std::filesystem::path freshTempDir(const std::string& tag);
 /// Runs the built `vitrum` binary with `args` (shell words); returns its exit code. Output goes to `log`.
 int runVitrum(const std::string& args, const std::filesystem::path& log);
 
+/// A regular FCC sample built by buildModel (shape "sphere", "hemisphere", "cube", …; radius µm; about
+/// `particles` particles), for kernel tests that need a real bond network without a packing.
+Model fccModel(const std::string& shape, double radius, int particles);
+
 /// Random thermal-like velocities (normal, standard deviation `speed` km/s per component) and spins
 /// (speed / R rad/ns), seeded.
 void agitate(Model& model, unsigned seed, double speed);

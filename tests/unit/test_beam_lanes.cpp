@@ -24,13 +24,7 @@ namespace {
 /// every beam stretched, bent and twisted; every 97th particle turned by 0.3–0.6 rad (its bonds leave the
 /// series range), every 41st bond broken; with densification, bonds already slipped and bonds that slip now.
 Model laneTestModel(bool densify) {
-    Scene s;
-    s.sample.lattice = "fcc";
-    s.sample.shape = "sphere";
-    s.sample.radius = 3.0;
-    s.sample.particles = 6000;
-    s.source_path = "<test>";
-    Model m = buildModel(s, 1.0);
+    Model m = testing::fccModel("sphere", 3.0, 6000);
     testing::agitate(m, 7, 1e-3);
     std::mt19937_64 rng(3);
     std::normal_distribution<double> g(0.0, 2e-3);

@@ -155,17 +155,7 @@ TEST(DensificationCalibrationFile, BadDensificationValuesAreRefused) {
     }
 }
 
-/// examples/calibration/silica.toml's eqs (5)–(6) as of commit 3305ac5 (as in test_densification.cpp).
-PropertyEvolution silicaEvolution() {
-    PropertyEvolution e;
-    e.a = {1.289909578910843, -3.792113559430187, 2.381399216042253};
-    e.b0 = {-0.7066063942831287, 2.1324617475069285, -1.445761720071556};
-    e.b1 = {0.18795409536328947, -0.869944534247202, 1.465802490870222};
-    e.young = 72.5;
-    e.poisson = 0.17;
-    e.poisson_max = 0.2494778890865429;
-    return e;
-}
+using testing::silicaEvolution;
 
 TEST(StiffnessEnvelope, BoundsEveryDensificationStateAndItsBeamHasBothMaxima) {
     const PropertyEvolution e = silicaEvolution();

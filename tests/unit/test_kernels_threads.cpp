@@ -11,18 +11,13 @@
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
 #include "solver/model.hpp"
+#include "support/test_support.hpp"
 
 namespace vitrum {
 namespace {
 
 Model agitatedLattice() {
-    Scene s;
-    s.sample.lattice = "fcc";
-    s.sample.shape = "sphere";
-    s.sample.radius = 3.0;
-    s.sample.particles = 6000; // > several reduction chunks (kReduceChunk = 2048)
-    s.source_path = "<test>";
-    Model m = buildModel(s, 1.0);
+    Model m = testing::fccModel("sphere", 3.0, 6000); // > several reduction chunks (kReduceChunk = 2048)
     std::mt19937_64 rng(1);
     std::normal_distribution<double> g(0.0, 1e-3);
     for (double& x : m.particles.position) x += g(rng);
