@@ -55,17 +55,14 @@ struct BeamLoads {
 /// within ≈ 0.6 ulp (1.3·10⁻¹⁶ relative) of atan(u)/u (tested against long-double atan over the whole range:
 /// BeamLaw.AtanSeriesMatchesLibmToRoundOff). No branch, no libm call.
 inline constexpr double kAtanSeriesLimit = 1.0 / 64.0; ///< u² limit: |u| ≤ 1/8
-/// Written for any arithmetic type with element-wise operators: `double` here, the SIMD lane vectors of
-/// beam_lanes.hpp there (always inlined, so a lane instantiation takes its caller's instruction set).
-template <class Real>
-[[gnu::always_inline]] inline Real atanOverArgSeries(Real x) noexcept {
-    const Real x2 = x * x;
-    const Real x4 = x2 * x2;
-    const Real q01 = -1.0 / 3.0 + x * (1.0 / 5.0);
-    const Real q23 = -1.0 / 7.0 + x * (1.0 / 9.0);
-    const Real q45 = -1.0 / 11.0 + x * (1.0 / 13.0);
-    const Real q67 = -1.0 / 15.0 + x * (1.0 / 17.0);
-    const Real q = (q01 + x2 * q23) + x4 * (q45 + x2 * q67);
+inline double atanOverArgSeries(double x) noexcept {
+    const double x2 = x * x;
+    const double x4 = x2 * x2;
+    const double q01 = -1.0 / 3.0 + x * (1.0 / 5.0);
+    const double q23 = -1.0 / 7.0 + x * (1.0 / 9.0);
+    const double q45 = -1.0 / 11.0 + x * (1.0 / 13.0);
+    const double q67 = -1.0 / 15.0 + x * (1.0 / 17.0);
+    const double q = (q01 + x2 * q23) + x4 * (q45 + x2 * q67);
     return 1.0 + x * q;
 }
 

@@ -47,6 +47,7 @@ struct Lanes<4> {
     using Mask = std::int64_t __attribute__((vector_size(32)));
 };
 
+
 template <int W>
 struct Vec3L {
     typename Lanes<W>::Real x, y, z;
@@ -77,6 +78,21 @@ template <int W>
 inline QuatL<W> mul(const QuatL<W>& a, const QuatL<W>& b) noexcept {
     return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
             a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z, a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x};
+}
+/// atanOverArgSeries of beam.hpp, lane-wise: the same operations in the same order. Not shared with the
+/// scalar function through a template: beam.hpp is compiled for the baseline target, so a template there
+/// would be a baseline-target function on 32-byte vectors (GCC warns of the AVX ABI change and may lower it
+/// to SSE halves). Here it takes the target of the unit that includes this header.
+template <class Real>
+inline Real atanOverArgSeriesL(Real x) noexcept {
+    const Real x2 = x * x;
+    const Real x4 = x2 * x2;
+    const Real q01 = -1.0 / 3.0 + x * (1.0 / 5.0);
+    const Real q23 = -1.0 / 7.0 + x * (1.0 / 9.0);
+    const Real q45 = -1.0 / 11.0 + x * (1.0 / 13.0);
+    const Real q67 = -1.0 / 15.0 + x * (1.0 / 17.0);
+    const Real q = (q01 + x2 * q23) + x4 * (q45 + x2 * q67);
+    return 1.0 + x * q;
 }
 template <class Real>
 inline Real sqrtL(Real x) noexcept {
@@ -113,22 +129,22 @@ inline Block<W> blockOf(const BondView& b, std::size_t m) noexcept {
 // Each lane vector is built in one brace initialisation from its W scalars, which the compiler assembles in
 // registers (element-by-element writes to a vector would go through the stack).
 template <int W, std::size_t... L>
-inline typename Lanes<W>::Real gatherStrided(const double* a, const std::size_t (&idx)[W], std::size_t stride,
+[[gnu::always_inline]] inline typename Lanes<W>::Real gatherStrided(const double* a, const std::size_t (&idx)[W], std::size_t stride,
                                              std::size_t offset, std::index_sequence<L...>) noexcept {
     return typename Lanes<W>::Real{a[stride * idx[L] + offset]...};
 }
 template <int W>
-inline typename Lanes<W>::Real gather1(const double* a, const std::size_t (&idx)[W]) noexcept {
+[[gnu::always_inline]] inline typename Lanes<W>::Real gather1(const double* a, const std::size_t (&idx)[W]) noexcept {
     return gatherStrided<W>(a, idx, 1, 0, std::make_index_sequence<W>{});
 }
 template <int W>
-inline Vec3L<W> gather3(const double* a, const std::size_t (&idx)[W]) noexcept {
+[[gnu::always_inline]] inline Vec3L<W> gather3(const double* a, const std::size_t (&idx)[W]) noexcept {
     constexpr auto lanes = std::make_index_sequence<W>{};
     return {gatherStrided<W>(a, idx, 3, 0, lanes), gatherStrided<W>(a, idx, 3, 1, lanes),
             gatherStrided<W>(a, idx, 3, 2, lanes)};
 }
 template <int W>
-inline QuatL<W> gather4(const double* a, const std::size_t (&idx)[W]) noexcept {
+[[gnu::always_inline]] inline QuatL<W> gather4(const double* a, const std::size_t (&idx)[W]) noexcept {
     constexpr auto lanes = std::make_index_sequence<W>{};
     return {gatherStrided<W>(a, idx, 4, 0, lanes), gatherStrided<W>(a, idx, 4, 1, lanes),
             gatherStrided<W>(a, idx, 4, 2, lanes), gatherStrided<W>(a, idx, 4, 3, lanes)};
@@ -193,14 +209,14 @@ template <int W>
     const Real den_j = k.length + cos_j;
     const Real inv_i = 1.0 / den_i;
     const Real inv_j = 1.0 / den_j;
-    const Real fi = 2.0 * inv_i * atanOverArgSeries(s2i * (inv_i * inv_i));
-    const Real fj = 2.0 * inv_j * atanOverArgSeries(s2j * (inv_j * inv_j));
+    const Real fi = 2.0 * inv_i * atanOverArgSeriesL(s2i * (inv_i * inv_i));
+    const Real fj = 2.0 * inv_j * atanOverArgSeriesL(s2j * (inv_j * inv_j));
     const QuatL<W> conj_qi{qi.w, -qi.x, -qi.y, -qi.z};
     const QuatL<W> rel = mul(mul(qj, ref), conj_qi);
     const Real along = rel.x * d.x + rel.y * d.y + rel.z * d.z;
     const Real w = k.length * rel.w;
     const Real tau = along / w;
-    k.twist = 2.0 * tau * atanOverArgSeries(tau * tau);
+    k.twist = 2.0 * tau * atanOverArgSeriesL(tau * tau);
     k.axis = {d.x * inv_length, d.y * inv_length, d.z * inv_length};
     k.stretch = k.length - rest_length;
     k.theta_i = {fi * ci.x, fi * ci.y, fi * ci.z};

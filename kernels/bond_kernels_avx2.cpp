@@ -4,10 +4,6 @@
 // included first, under the build's baseline target, so no inline function shared with other units (Eigen,
 // the beam law, the timers) is emitted here with AVX2 instructions. bond_kernels.cpp calls this only when
 // the CPU has AVX2.
-// -Wpsabi would note that atanOverArgSeries (beam.hpp, baseline target) returns a 32-byte lane vector without
-// AVX: it is always inlined into this unit's AVX2 code, so no call ever crosses that ABI boundary.
-#pragma GCC diagnostic ignored "-Wpsabi"
-
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
