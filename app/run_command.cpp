@@ -685,6 +685,13 @@ int runScene(const RunOptions& options) {
             {"zone_broken_bonds", z.broken_bonds},
             {"zone_densified_bonds", z.densified_bonds},
             {"zone_released_particles", z.released_particles},
+            {"zone_check", scene.coupling.zone_check},
+            {"zone_tolerance", scene.coupling.zone_tolerance},
+            {"zone_max_slip", z.max_slip},
+            {"zone_min_densified_alpha_d", z.min_densified_weight},
+            {"zone_weighted_slip_volume_um3", z.zone_slip_volume},
+            {"total_slip_volume_um3", z.total_slip_volume},
+            {"zone_weighted_slip_fraction", z.weightedSlipFraction()},
             {"cnem_state_sha256", cnemStateSha256(c.cnem)}};
     }
 

@@ -1162,7 +1162,7 @@ void SceneParser::readCoupling(const TableReader& top, Scene& scene) const {
         return;
     }
     table.allowOnly({"thickness", "box", "nodes", "profile", "multiplier_tolerance", "stabilisation", "jitter",
-                     "lateral_faces", "young_modulus", "poisson_ratio", "density"});
+                     "lateral_faces", "young_modulus", "poisson_ratio", "density", "zone_check", "zone_tolerance"});
     CouplingParams& c = scene.coupling;
     const toml::source_region& where = table.table() ? table.table()->source() : coupling_effect_->source();
     // The paper's set-up (§4, Fig 12): the DEM hemisphere under the indented face, in a CNEM box.
@@ -1184,6 +1184,10 @@ void SceneParser::readCoupling(const TableReader& top, Scene& scene) const {
     c.jitter = table.number("jitter", Range{0.0, 0.45, false, false}, "fraction of the node spacing")
                    .value_or(c.jitter);
     c.lateral = table.choice("lateral_faces", {"free", "roller"}).value_or(c.lateral);
+    c.zone_check = table.choice("zone_check", {"strict", "weighted"}).value_or(c.zone_check);
+    c.zone_tolerance = table.number("zone_tolerance", Range{0.0, 1.0, false, true},
+                                    "largest continuum-weighted share of the slip volume in the zone")
+                           .value_or(c.zone_tolerance);
     const double R = scene.sample.radius;
     if (!(c.thickness < R)) {
         const toml::node* n = table.find("thickness");
@@ -1502,7 +1506,8 @@ std::string resolvedSceneToml(const Scene& scene) {
             << "\nnodes = " << c.nodes << "\nprofile = " << tomlString(c.profile)
             << "\nmultiplier_tolerance = " << tomlFloat(c.multiplier_tolerance)
             << "\nstabilisation = " << tomlFloat(c.stabilisation) << "\njitter = " << tomlFloat(c.jitter)
-            << "\nlateral_faces = " << tomlString(c.lateral) << "\nyoung_modulus = " << fileFloat(c.young, stress)
+            << "\nlateral_faces = " << tomlString(c.lateral) << "\nzone_check = " << tomlString(c.zone_check)
+            << "\nzone_tolerance = " << tomlFloat(c.zone_tolerance) << "\nyoung_modulus = " << fileFloat(c.young, stress)
             << " # " << u.stress << "\npoisson_ratio = " << tomlFloat(c.poisson) << "\n";
         if (c.density > 0.0) {
             out << "density = " << fileFloat(c.density, 1e-3) << " # kg/m^3\n";

@@ -182,6 +182,10 @@ struct CouplingParams {
     double poisson = 0.0;               ///< continuum ν
     double density = 0.0;               ///< continuum ρ, 10³ kg/m³; 0 = measured on the packing (Σm/V)
     std::string material_source;        ///< where E, ν come from (for the log and summary)
+    /// APP-2 zone check (solver/coupling.hpp ZoneCheck): "strict" (any slip in the zone stops the run) or
+    /// "weighted" (the continuum-weighted slip volume may reach zone_tolerance of the total)
+    std::string zone_check = "strict";
+    double zone_tolerance = 0.01;
 };
 
 struct TimeParams {

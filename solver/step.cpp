@@ -259,9 +259,12 @@ Step composeStep(const Scene& scene, Model& model) {
         if (scene.hasEffect("densification") || scene.hasEffect("fracture")) {
             // APP-2: the elastic CNEM cannot follow inelasticity in the zone; checked every 50 steps (the
             // slider's slip and broken bonds are permanent, so nothing is missed, only seen ≤ 49 steps late).
-            step.add("coupling.check_zone", false, [](StepContext& c) {
+            ZoneCheck check;
+            check.mode = scene.coupling.zone_check == "weighted" ? ZoneCheck::Mode::Weighted : ZoneCheck::Mode::Strict;
+            check.tolerance = scene.coupling.zone_tolerance;
+            step.add("coupling.check_zone", false, [check](StepContext& c) {
                 if (std::llround(c.time / c.dt) % 50 == 0) {
-                    assertZoneElastic(c.model.coupling->bridge, c.model.particles, c.model.bonds);
+                    assertZoneElastic(c.model.coupling->bridge, c.model.particles, c.model.bonds, check);
                 }
             });
         }

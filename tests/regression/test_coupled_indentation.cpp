@@ -62,6 +62,9 @@ TEST(CoupledIndentation, ReducedCoupledVickersRunsEveryStageKeepsTheZoneElasticA
     // APP-2: nothing inelastic in the zone (the run would have stopped with exit 1 otherwise).
     EXPECT_EQ(c["zone_broken_bonds"].get<long>(), 0);
     EXPECT_EQ(c["zone_densified_bonds"].get<long>(), 0);
+    EXPECT_EQ(c["zone_check"].get<std::string>(), "strict"); // the default: APP-2 as written
+    EXPECT_EQ(c["zone_max_slip"].get<double>(), 0.0);
+    EXPECT_EQ(c["zone_weighted_slip_fraction"].get<double>(), 0.0);
     // The projection leaves the constraint satisfied to rounding: the L2-averaged velocity mismatch is
     // below 1e-9 of the tool speed (100 m/s), i.e. nothing but round-off of the 3 back-substitutions.
     EXPECT_LT(c["final_constraint_residual_m_per_s"].get<double>(), 1e-7);

@@ -331,6 +331,80 @@ TEST(CouplingZone, ElasticZoneAssertion) {
     EXPECT_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b), RuntimeFailure);
 }
 
+// The weighted zone check (issue 7, 0.5 N): the slip volume S l0 e_p of a densified zone bond counts with the
+// continuum's weight 1 - alpha_d(mid) against the total slip volume. A bond densified where alpha_d is close to
+// 1 beside a densified core passes; the same slip where alpha_d is small, or any broken bond, fails.
+TEST(CouplingZone, WeightedZoneCheckBoundsTheContinuumShareOfTheSlip) {
+    const testing::SingleThread one_thread;
+    CoupledBar bar = readyBar();
+    Bonds& b = bar.dem.bonds;
+    b.enableDensification();
+    // The zone bonds with the largest and the smallest alpha_d(mid) < 1, and one outside (alpha_d = 1).
+    std::size_t high = b.size(), low = b.size(), core = b.size();
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        const double w = bar.bridge.bond_weight[k];
+        if (w >= 1.0) {
+            core = core == b.size() ? k : core;
+            continue;
+        }
+        if (high == b.size() || w > bar.bridge.bond_weight[high])
+            high = k;
+        if (low == b.size() || w < bar.bridge.bond_weight[low])
+            low = k;
+    }
+    ASSERT_LT(high, b.size());
+    ASSERT_LT(core, b.size());
+    const double w_high = bar.bridge.bond_weight[high];
+    const double w_low = bar.bridge.bond_weight[low];
+    ASSERT_GT(w_high, 0.5);
+    ASSERT_LT(w_low, 0.5);
+    auto volume = [&](std::size_t k) {
+        return std::numbers::pi * b.section_radius[k] * b.section_radius[k] * b.rest_length[k] * b.slip[k];
+    };
+    ZoneCheck weighted;
+    weighted.mode = ZoneCheck::Mode::Weighted;
+    weighted.tolerance = 0.01;
+
+    // Elastic: both modes pass, the fraction is 0 (no slip anywhere).
+    EXPECT_EQ(zoneInelasticity(bar.bridge, bar.dem.particles, b).weightedSlipFraction(), 0.0);
+    EXPECT_NO_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b, weighted));
+
+    // A densified core and a slightly densified bond near the zone's DEM edge.
+    b.slip[core] = 0.05;
+    b.slip[high] = 1e-3;
+    ZoneInelasticity z = zoneInelasticity(bar.bridge, bar.dem.particles, b);
+    EXPECT_EQ(z.densified_bonds, 1u);
+    EXPECT_DOUBLE_EQ(z.max_slip, 1e-3);
+    EXPECT_DOUBLE_EQ(z.min_densified_weight, w_high);
+    EXPECT_NEAR(z.zone_slip_volume, (1.0 - w_high) * volume(high), 1e-15 * volume(core));
+    EXPECT_NEAR(z.total_slip_volume, volume(core) + volume(high), 1e-15 * volume(core));
+    const double expected = (1.0 - w_high) * volume(high) / (volume(core) + volume(high));
+    EXPECT_NEAR(z.weightedSlipFraction(), expected, 1e-12);
+    ASSERT_LT(expected, weighted.tolerance);
+    EXPECT_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b), RuntimeFailure); // strict: APP-2 as written
+    EXPECT_NO_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b, weighted));
+
+    // The same total slip deep in the zone (small alpha_d): the continuum stands in for most of it.
+    b.slip[high] = 0.0;
+    b.slip[low] = 0.05;
+    z = zoneInelasticity(bar.bridge, bar.dem.particles, b);
+    EXPECT_GT(z.weightedSlipFraction(), weighted.tolerance);
+    EXPECT_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b, weighted), RuntimeFailure);
+    // A tolerance above the fraction lets it pass; tolerance 0 is strict for slip.
+    weighted.tolerance = 0.99;
+    EXPECT_NO_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b, weighted));
+    b.slip[low] = 0.0;
+    b.slip[high] = 1e-3;
+    weighted.tolerance = 0.0;
+    EXPECT_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b, weighted), RuntimeFailure);
+
+    // Broken bonds in the zone fail the weighted check whatever the tolerance.
+    b.slip[high] = 0.0;
+    weighted.tolerance = 0.99;
+    b.broken[high] = 1;
+    EXPECT_THROW(assertZoneElastic(bar.bridge, bar.dem.particles, b, weighted), RuntimeFailure);
+}
+
 } // namespace
 } // namespace vitrum
 

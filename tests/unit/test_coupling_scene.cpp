@@ -51,6 +51,8 @@ TEST(CouplingScene, DefaultsAreThePapersAndTheMaterialIsThePackingsCalibration) 
     EXPECT_EQ(c.nodes, 10000);
     EXPECT_EQ(c.profile, "linear");
     EXPECT_EQ(c.lateral, "free");
+    EXPECT_EQ(c.zone_check, "strict"); // APP-2 as written: any slip in the zone stops the run
+    EXPECT_EQ(c.zone_tolerance, 0.01);
     // E, ν: the calibration file's targets (72.5 GPa, 0.17), which its micro-parameters reproduce on eq 6;
     // ρ left to be measured on the packing (0).
     EXPECT_EQ(c.young, 72.5);
@@ -64,7 +66,8 @@ TEST(CouplingScene, KeysAreReadInTheScenesUnitsAndRoundTrip) {
                              coupledScene("[coupling]\nthickness = 0.0015\nbox = 0.025\nnodes = 5000\n"
                                           "profile = \"cubic\"\nmultiplier_tolerance = 0.05\nstabilisation = 0.1\n"
                                           "jitter = 0.2\nlateral_faces = \"roller\"\nyoung_modulus = 70000\n"
-                                          "poisson_ratio = 0.2\ndensity = 1400\n",
+                                          "poisson_ratio = 0.2\ndensity = 1400\nzone_check = \"weighted\"\n"
+                                          "zone_tolerance = 0.002\n",
                                           "[material]\ndensity = 2200\n");
     // (The hemisphere's radius 6.0 is in mm here: 6000 µm; the box must exceed 2R.)
     std::string scaled = text;
@@ -82,6 +85,8 @@ TEST(CouplingScene, KeysAreReadInTheScenesUnitsAndRoundTrip) {
     EXPECT_DOUBLE_EQ(c.young, 70.0); // GPa
     EXPECT_EQ(c.poisson, 0.2);
     EXPECT_DOUBLE_EQ(c.density, 1.4); // 10³ kg/m³
+    EXPECT_EQ(c.zone_check, "weighted");
+    EXPECT_EQ(c.zone_tolerance, 0.002);
     const Scene back = parseScene(resolvedSceneToml(s), s.source_path);
     EXPECT_EQ(back.coupling.thickness, c.thickness);
     EXPECT_EQ(back.coupling.box, c.box);
@@ -94,6 +99,8 @@ TEST(CouplingScene, KeysAreReadInTheScenesUnitsAndRoundTrip) {
     EXPECT_EQ(back.coupling.young, c.young);
     EXPECT_EQ(back.coupling.poisson, c.poisson);
     EXPECT_EQ(back.coupling.density, c.density);
+    EXPECT_EQ(back.coupling.zone_check, c.zone_check);
+    EXPECT_EQ(back.coupling.zone_tolerance, c.zone_tolerance);
     EXPECT_EQ(resolvedSceneToml(back), resolvedSceneToml(s));
 }
 
@@ -109,6 +116,10 @@ TEST(CouplingScene, BadInputNamesFileLineAndKey) {
     expectMentions(errorOf(coupledScene("[coupling]\nprofile = \"quadratic\"\n")),
                    {"q.toml:", "key 'coupling.profile'", "\"linear\", \"cubic\""});
     expectMentions(errorOf(coupledScene("[coupling]\nnodes = 10\n")), {"q.toml:", "key 'coupling.nodes'"});
+    expectMentions(errorOf(coupledScene("[coupling]\nzone_check = \"off\"\n")),
+                   {"q.toml:", "key 'coupling.zone_check'", "\"strict\", \"weighted\""});
+    expectMentions(errorOf(coupledScene("[coupling]\nzone_tolerance = 1\n")),
+                   {"q.toml:", "key 'coupling.zone_tolerance'", "got 1"});
     expectMentions(errorOf(coupledScene("[coupling]\nyoung_modulus = 70\n")),
                    {"q.toml:", "coupling.poisson_ratio", "give both"});
     // Without a calibration the continuum's E, ν must be given: no silent nominal values.
