@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Roofline table for the explicit step (issue 10) from Google Benchmark JSON written by run_benchmarks.sh.
 
-Usage: python3 bench/roofline.py [--time real|cpu] bench/results/roofline_1t.json bench/results/roofline_2t.json
+Usage: python3 bench/roofline.py [--time real|cpu] [--triad 1:GBPS,2:GBPS] bench/results/roofline_1t.json ...
 
 --time real (default): wall times, what a run sees; on a shared machine an upper bound on the kernel's time.
 --time cpu: the benchmark thread's CPU time (Google Benchmark's cpu_time: the main thread, which runs its own
@@ -43,6 +43,10 @@ STEP_ELASTIC = ("BM_FullStep", ["BM_BeamLoads", "BM_Gather", "BM_Integrate"])
 
 
 TIME = "real"
+# --triad 1:27.2,2:47.9 — bound with these bandwidths (GB/s by thread count) instead of the run's own triad: the
+# VM's bandwidth moves between days (10-11 GB/s one thread on 2026-12-02 05:56, 27 at 02:21), so a run's own
+# triad can make a bound loose; the best triad seen gives the conservative fraction.
+TRIAD_REF = {}
 
 
 def load(path):
@@ -77,6 +81,9 @@ def table(path):
     best, counters = load(path)
     threads = int(max(c.get("threads", 0) for c in counters.values())) or None
     triad = max((c["dram_Bps"] for n, c in counters.items() if n.startswith("BM_StreamTriad")), default=None)
+    measured_triad = triad
+    if threads in TRIAD_REF:
+        triad = TRIAD_REF[threads] * 1e9
     base_peak = max((c["flops"] for n, c in counters.items() if n.startswith("BM_PeakFlops/0")), default=None)
     fma = max((c["flops"] for n, c in counters.items() if n.startswith("BM_PeakFlops/1")), default=None)
     avx2 = max((c["flops"] for n, c in counters.items() if n.startswith("BM_PeakFlops/2")), default=None)
@@ -84,7 +91,9 @@ def table(path):
     # Peak of the ISA the beam pass ran in (the bound of every beam kernel and step; the others run SSE2).
     peak = avx2 if lanes == 4 and avx2 else base_peak
     out = []
-    out.append(f"#### {path} ({TIME} time): {threads} thread(s); triad {triad / 1e9:.1f} GB/s; build-ISA peak "
+    out.append(f"#### {path} ({TIME} time): {threads} thread(s); triad {triad / 1e9:.1f} GB/s" +
+               (f" (reference; this run's own {measured_triad / 1e9:.1f})" if threads in TRIAD_REF else "") +
+               "; build-ISA peak "
                f"{base_peak / 1e9:.1f} GFLOP/s" + (f", AVX2 mul+add peak {avx2 / 1e9:.1f}" if avx2 else "") +
                (f" (AVX2+FMA peak {fma / 1e9:.1f}, unused)" if fma else "") +
                f"; beam pass in {lanes} lanes, bounded with the {'AVX2' if peak is avx2 else 'build-ISA'} peak")
@@ -131,8 +140,11 @@ def table(path):
 
 if __name__ == "__main__":
     args = sys.argv[1:]
-    if args[:1] == ["--time"]:
-        TIME = args[1]
+    while args[:1] in (["--time"], ["--triad"]):
+        if args[0] == "--time":
+            TIME = args[1]
+        else:
+            TRIAD_REF = {int(k): float(v) for k, v in (kv.split(":") for kv in args[1].split(","))}
         args = args[2:]
     for p in args:
         print(table(p))
