@@ -1,0 +1,48 @@
+#!/usr/bin/env python3
+"""How V+ (and V-) of a residual imprint depend on the far-field reference and on the integration radius.
+
+Usage: vplus.py RUN_DIR [RUN_DIR ...]                 the reported metric, the offsets of all runs and offset 0
+       vplus.py --annulus A B RUN_DIR [RUN_DIR ...]   far field = mean of the change over A <= r < B um,
+                                                      integrals over r < A (a smaller disc than the summary's)
+Each run's imprint.csv holds the smoothed, far-field-corrected surface change dh on its grid (r < the summary's
+annulus' outer radius), summary.json the far-field offset subtracted and the integration radius; dh + offset is
+the change against the original surface.
+"""
+import csv, json, math, re, sys
+
+
+def load(d):
+    s = json.load(open(d + "/summary.json"))["measurements"]
+    inner = float(re.search(r"integrals over r < ([0-9.]+)", s["imprint_method"]).group(1))
+    rows = [(float(r["x_um"]), float(r["y_um"]), float(r["dh_um"])) for r in csv.DictReader(open(d + "/imprint.csv"))]
+    xs = sorted({x for x, _, _ in rows})
+    change = [(math.hypot(x, y), v + s["far_field_offset_um"]) for x, y, v in rows if math.isfinite(v)]
+    return s, change, (xs[1] - xs[0]) ** 2, inner
+
+
+def volumes(change, cell, ref, radius):
+    inside = [v - ref for r, v in change if r < radius]
+    return sum(max(v, 0.0) for v in inside) * cell, sum(max(-v, 0.0) for v in inside) * cell
+
+
+args = sys.argv[1:]
+annulus = None
+if args[:1] == ["--annulus"]:
+    annulus, args = (float(args[1]), float(args[2])), args[3:]
+runs = {d: load(d) for d in args}
+offsets = {d: r[0]["far_field_offset_um"] for d, r in runs.items()}
+for d, (s, change, cell, inner) in runs.items():
+    if annulus:
+        a, b = annulus
+        ring = [v for r, v in change if a <= r < b]
+        ref = sum(ring) / len(ring)
+        vp, vm = volumes(change, cell, ref, a)
+        print(f"{d}: annulus [{a}, {b}) um, far field {ref * 1e3:+.3f} nm: V+ {vp:.4f}  V- {vm:.4f} um3 (r < {a} um)")
+        continue
+    print(f"{d}: reported V+ {s['V_plus_um3']:.4f} V- {s['V_minus_um3']:.4f} um3, far-field offset "
+          f"{offsets[d] * 1e3:+.3f} nm, integrals over r < {inner} um")
+    for name, ref in [("own offset", offsets[d]), ("offset 0", 0.0)] + [(f"offset of {o}", offsets[o]) for o in runs if o != d]:
+        vp, vm = volumes(change, cell, ref, inner)
+        print(f"   {name:40s} V+ {vp:.4f}  V- {vm:.4f}")
+    area = sum(1 for r, v in change if r < inner and v > offsets[d]) * cell
+    print(f"   dV+/d(offset) = -{area:.1f} um2 (area with dh > 0): 1 nm moves V+ by {area * 1e-3:.3f} um3")
