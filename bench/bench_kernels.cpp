@@ -200,36 +200,10 @@ void enableDensification(BenchModel& bm) {
     }
 }
 
-/// Beam loads with the spring-slider in the same pass (effect densification, property evolution on). The
-/// perturbed lattice stays far below the yield stress, so every bond takes the elastic branch of the return
-/// mapping: the common case away from the indenter; the slip branch is not timed.
-void BM_BeamLoadsDensified(benchmark::State& state) {
+/// Times computeBeamLoads on the bench model of state.range(0): plain, or with the spring-slider and its
+/// property evolution in the same pass (`densified`).
+void timeBeamPass(benchmark::State& state, bool densified) {
     BenchModel& bm = modelFor(state.range(0));
-    enableDensification(bm);
-    const vitrum::BondView b = bm.model.bonds.view();
-    const vitrum::ParticleView p = bm.model.particles.view();
-    const vitrum::DensificationLaw law = vitrum::densificationLaw(bm.scene);
-    const vitrum::DensificationView d = bm.model.bonds.densificationView();
-    for (auto _ : state) {
-        vitrum::computeBeamLoads(b, p, law, d);
-        benchmark::ClobberMemory();
-    }
-    const double nb = static_cast<double>(b.n);
-    state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
-    reportCommon(state, bm, (kBeamStreamBytes + kDensifyBytes) * nb + kBeamParticleBytes * static_cast<double>(p.n));
-}
-
-/// Design bench: the beam pass in 2 SSE2 lanes vs 4 AVX2 lanes (kernels/beam_lanes.hpp; bit-identical results,
-/// BeamLanes.LaneWidthsAreBitIdentical), plain (variant 0) or with the spring-slider and property evolution
-/// (variant 1, every bond on the elastic branch). The production pass takes 4 lanes where the CPU has AVX2.
-void BM_BeamLanes(benchmark::State& state) {
-    const int lanes = static_cast<int>(state.range(1));
-    if (!vitrum::setBeamLanes(lanes)) {
-        state.SkipWithError("CPU without AVX2");
-        return;
-    }
-    BenchModel& bm = modelFor(state.range(0));
-    const bool densified = state.range(2) != 0;
     if (densified) {
         enableDensification(bm);
     }
@@ -250,6 +224,22 @@ void BM_BeamLanes(benchmark::State& state) {
     reportCommon(state, bm,
                  (kBeamStreamBytes + (densified ? kDensifyBytes : 0.0)) * nb +
                      kBeamParticleBytes * static_cast<double>(p.n));
+}
+
+/// Beam loads with the spring-slider in the same pass (effect densification, property evolution on). The
+/// perturbed lattice stays far below the yield stress, so every bond takes the elastic branch of the return
+/// mapping: the common case away from the indenter; the slip branch is not timed.
+void BM_BeamLoadsDensified(benchmark::State& state) { timeBeamPass(state, true); }
+
+/// Design bench: the beam pass in 2 SSE2 lanes vs 4 AVX2 lanes (kernels/beam_lanes.hpp; bit-identical results,
+/// BeamLanes.LaneWidthsAreBitIdentical), plain (variant 0) or with the spring-slider and property evolution
+/// (variant 1, every bond on the elastic branch). The production pass takes 4 lanes where the CPU has AVX2.
+void BM_BeamLanes(benchmark::State& state) {
+    if (!vitrum::setBeamLanes(static_cast<int>(state.range(1)))) {
+        state.SkipWithError("CPU without AVX2");
+        return;
+    }
+    timeBeamPass(state, state.range(2) != 0);
     vitrum::setBeamLanes(0);
 }
 
