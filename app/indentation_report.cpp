@@ -184,6 +184,7 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
 
     m["V_minus_um3"] = im.v_minus;
     m["V_plus_um3"] = im.v_plus;
+    m["V_plus_print_um3"] = im.v_plus_print;
     m["V_d_um3"] = im.v_d;
     m["depth_um"] = im.depth;
     m["diagonal_um"] = im.diagonal;
@@ -199,7 +200,7 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
                           " um), after minus before, Gaussian-smoothed (sigma " + std::to_string(params.smoothing) +
                           " um), far field = mean over r in [" + std::to_string(params.far_inner) + ", " +
                           std::to_string(params.far_outer) + "] um, integrals over r < " +
-                          std::to_string(params.far_inner) + " um" +
+                          std::to_string(params.far_inner) + " um (V_plus_print_um3: r < L)" +
                           (p.fractureEnabled() ? "; released particles left out of the final surface" : "");
     m["far_field_offset_um"] = im.far_field;
 

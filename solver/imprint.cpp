@@ -173,6 +173,15 @@ ImprintMetrics measureImprint(const SurfaceGrid& before, const SurfaceGrid& afte
     m.diagonals[0] = half[0] + half[2];
     m.diagonals[1] = half[1] + half[3];
     m.diagonal = 0.5 * (m.diagonals[0] + m.diagonals[1]);
+    for (int iy = 0; iy < g.ny; ++iy) {
+        for (int ix = 0; ix < g.nx; ++ix) {
+            const std::size_t c = static_cast<std::size_t>(ix + g.nx * iy);
+            const double r = std::hypot(g.x(ix) - p.axis.x(), g.y(iy) - p.axis.y());
+            if (!std::isnan(dh[c]) && r < m.diagonal && r < p.far_inner) {
+                m.v_plus_print += std::max(dh[c], 0.0) * area;
+            }
+        }
+    }
     m.dh = std::move(dh);
     m.grid = g;
     m.grid.z.clear();

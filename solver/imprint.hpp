@@ -12,6 +12,10 @@
 //   V⁻ = ∫ max(−Δh, 0) dA,  V⁺ = ∫ max(Δh, 0) dA,  V_d = V⁻ − V⁺,  D = max(−Δh)
 // and the print diagonal L: along each of the four half-diagonals x = ±y (the Vickers edges), the distance
 // from the axis to where Δh first comes back to the far-field level; L is the mean of the two diagonals.
+// V⁺ over the whole disc also collects the sample's far-field response (sub-nm undulations of a surface
+// several print sizes wide, set by the sample's boundary, not by the print). The pile-up proper lies against
+// the print's edges (L/(2√2) ≤ r ≤ L/2) and decays within a print size, so the print-scaled pile-up is
+//   V⁺_L = ∫_{r < L} max(Δh, 0) dA      (same far-field level; V⁺_L ≤ V⁺).
 #pragma once
 
 #include <vector>
@@ -41,6 +45,7 @@ struct ImprintParams {
 struct ImprintMetrics {
     double v_minus = 0.0;      ///< µm³
     double v_plus = 0.0;       ///< µm³
+    double v_plus_print = 0.0; ///< µm³, V⁺_L: the positive part over r < L only
     double v_d = 0.0;          ///< µm³
     double depth = 0.0;        ///< µm
     double diagonal = 0.0;     ///< µm, mean of the two

@@ -15,16 +15,22 @@ Presets:
   quick  examples/quickstart.toml (0.025 N on a 6 um hemisphere; metrics scaled to 0.1 N by self-similarity):
          particles 2 000 ... 16 000 (the finest, at the default settings), and at 8 000 particles the
          time-step ratio 0.1 / 0.15 / 0.3, loading speed 5 / 10 / 20 m/s, Cundall damping 0.15 / 0.3 / 0.6.
-  paper  examples/vickers-0.1N.toml: particles 5 000 ... 100 000 (hours on 2 cores; pass --reuse DIR=N to
-         take an existing run's summary, e.g. the committed 100 000-particle one).
+  paper  examples/vickers-0.1N.toml: particles 5 000 ... 100 000 (each count its own cached packing,
+         examples/packings/hemisphere-12um-N-seed1.h5), at 20 000 particles the time-step ratio 0.1 / 0.3,
+         loading speed 10 / 40 m/s, Cundall damping 0.15 / 0.6, and the coupled DEM-CNEM scene
+         (examples/vickers-0.1N-coupled.toml) at 100 000 particles against DEM-only. About 3 CPU hours:
+         --jobs 2 on a 2-core machine.
   smoke  two tiny runs (a ctest): checks that the study runs end to end and writes its three outputs.
 
 Every run uses --threads 1 (results do not depend on the thread count; one thread makes the CPU time a
-clean cost). Runs whose summary.json exists in the output folder are reused, so an interrupted study
-continues where it stopped. Double precision throughout: vitrum has no mixed-precision path, so that axis of
-the issue does not apply.
+clean cost). --jobs N runs N of them at once (the study is embarrassingly parallel); each run's CPU time is
+then its own (wait4), but runs sharing the memory bus cost more than alone (measured: 1.2-1.3x at 10^5
+particles on the 2-core development VM), so compare costs within one --jobs setting. Runs whose summary.json
+exists in the output folder are reused, so an interrupted study continues where it stopped. Double precision
+throughout: vitrum has no mixed-precision path, so that axis of the issue does not apply.
 
   /usr/bin/python3 bench/accuracy-cost/run.py --preset quick --out out/accuracy-cost-quick
+  /usr/bin/python3 bench/accuracy-cost/run.py --preset paper --out out/accuracy-cost-paper --jobs 2
 (Debian's python3 with python3-matplotlib, which `make` installs.)
 """
 import argparse
@@ -36,6 +42,7 @@ import resource
 import subprocess
 import sys
 import time
+import tomllib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -47,34 +54,64 @@ PAPER_DEM = {"V_minus_um3": 1.304, "V_d_um3": 1.168, "depth_um": 0.159, "diagona
 EXP_JI = {"V_minus_um3": 0.727, "V_d_um3": 0.605, "depth_um": 0.377, "diagonal_um": 4.707}
 
 
+class Run:
+    """One run of a study: its axis and value, the scene, the --set overrides, and the particle count whose
+    default-setting run is the reference of its axis (base)."""
+
+    def __init__(self, axis, value, scene, overrides, base=None):
+        self.axis, self.value, self.scene, self.overrides, self.base = axis, value, scene, overrides, base
+
+    @property
+    def label(self):
+        return f"{self.axis}-{self.value}"
+
+
+def packing_file(n):
+    """The cached packing of n particles for the 12 um hemisphere of the Vickers scenes (relative to examples/)."""
+    return ["--set", f'sample.particles={n}', "--set", f'sample.file="packings/hemisphere-12um-{n}-seed1.h5"']
+
+
+def speed_set(v):
+    """Loading and unloading speed v in m/s (the scenes' stages are in um/ns)."""
+    s = v / 1000.0
+    return ["--set", f"stage[0].speed={s}", "--set", f"stage[2].speed={s}"]
+
+
 def preset_runs(name):
-    """(axis, value label, overrides) per run; the first run of the list is the finest (the reference)."""
+    """(runs, default particle count, the scene's own value of each other axis)."""
     if name == "quick":
         scene = "examples/quickstart.toml"
-        runs = [("particles", str(n), ["--set", f"sample.particles={n}"]) for n in (16000, 8000, 4000, 2000)]
+        runs = [Run("particles", str(n), scene, ["--set", f"sample.particles={n}"]) for n in (16000, 8000, 4000, 2000)]
         for r in (0.1, 0.3):
-            runs.append(("safety_ratio", str(r), ["--set", f"time.safety_ratio={r}"]))
-        for v in (5, 20):  # m/s; the scene's stages are in um/ns
-            s = v / 1000.0
-            runs.append(("speed_m_per_s", str(v), ["--set", f"stage[0].speed={s}", "--set", f"stage[2].speed={s}"]))
+            runs.append(Run("safety_ratio", str(r), scene, ["--set", f"time.safety_ratio={r}"], base="8000"))
+        for v in (5, 20):
+            runs.append(Run("speed_m_per_s", str(v), scene, speed_set(v), base="8000"))
         for a in (0.15, 0.6):
-            runs.append(("cundall", str(a), ["--set", f"damping.coefficient={a}"]))
-        default = {"particles": "8000", "safety_ratio": "0.15", "speed_m_per_s": "10", "cundall": "0.3"}
-        return scene, runs, default
+            runs.append(Run("cundall", str(a), scene, ["--set", f"damping.coefficient={a}"], base="8000"))
+        return runs, "8000", {"safety_ratio": 0.15, "speed_m_per_s": 10.0, "cundall": 0.3}
     if name == "paper":
         scene = "examples/vickers-0.1N.toml"
-        runs = [("particles", str(n), ["--set", f"sample.particles={n}"]) for n in (100000, 50000, 20000, 10000, 5000)]
-        default = {"particles": "100000", "safety_ratio": "0.15", "speed_m_per_s": "20", "cundall": "0.3"}
-        return scene, runs, default
+        runs = [Run("particles", str(n), scene, packing_file(n)) for n in (100000, 50000, 20000, 10000, 5000)]
+        # The coupled scene as it is (100 000 particles, the same packing as the DEM-only run).
+        runs.append(Run("model", "coupled", "examples/vickers-0.1N-coupled.toml", [], base="100000"))
+        at = packing_file(20000)
+        for r in (0.1, 0.3):
+            runs.append(Run("safety_ratio", str(r), scene, at + ["--set", f"time.safety_ratio={r}"], base="20000"))
+        for v in (10, 40):
+            runs.append(Run("speed_m_per_s", str(v), scene, at + speed_set(v), base="20000"))
+        for a in (0.15, 0.6):
+            runs.append(Run("cundall", str(a), scene, at + ["--set", f"damping.coefficient={a}"], base="20000"))
+        return runs, "100000", {"safety_ratio": 0.15, "speed_m_per_s": 20.0, "cundall": 0.3}
     if name == "smoke":
         scene = "examples/quickstart.toml"
         tiny = ["--set", "sample.radius=3.0", "--set", "stage[0].until_force=0.003", "--set", "stage[0].speed=0.05",
                 "--set", "stage[1].duration=2.0", "--set", "stage[2].speed=0.05", "--set", "stage[3].duration=5.0",
                 "--set", "sample.file=\"\""]
-        runs = [("particles", "1200", ["--set", "sample.particles=1200"] + tiny),
-                ("particles", "800", ["--set", "sample.particles=800"] + tiny)]
-        default = {"particles": "800"}
-        return scene, runs, default
+        runs = [Run("particles", "1200", scene, ["--set", "sample.particles=1200"] + tiny),
+                Run("particles", "800", scene, ["--set", "sample.particles=800"] + tiny),
+                Run("safety_ratio", "0.3", scene, ["--set", "sample.particles=800", "--set", "time.safety_ratio=0.3"]
+                    + tiny, base="800")]
+        return runs, "800", {"safety_ratio": 0.15, "speed_m_per_s": 50.0, "cundall": 0.3}
     raise SystemExit(f"unknown preset '{name}' (quick, paper, smoke)")
 
 
@@ -89,29 +126,98 @@ def scaled(summary):
     return out
 
 
-def run_one(binary, scene, out_dir, overrides, log):
-    summary_path = os.path.join(out_dir, "summary.json")
-    cost_path = os.path.join(out_dir, "cost.json")
+def cached_result(out_dir):
+    """(summary, cost) of a finished run in out_dir, or None."""
+    summary_path, cost_path = os.path.join(out_dir, "summary.json"), os.path.join(out_dir, "cost.json")
     if os.path.exists(summary_path) and os.path.exists(cost_path):
         with open(summary_path) as f, open(cost_path) as g:
-            return json.load(f), json.load(g), True
-    os.makedirs(out_dir, exist_ok=True)
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.monotonic()
-    cmd = [binary, "run", os.path.join(ROOT, scene), "--out", out_dir, "--threads", "1", "--quiet"] + overrides
-    with open(os.path.join(out_dir, "log.txt"), "w") as lf:
-        rc = subprocess.call(cmd, stdout=lf, stderr=subprocess.STDOUT, cwd=ROOT)
-    wall = time.monotonic() - start
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    if rc != 0:
-        raise SystemExit(f"run failed (exit {rc}): {' '.join(cmd)}; see {out_dir}/log.txt")
-    with open(summary_path) as f:
-        summary = json.load(f)
-    cost = {"cpu_s": cpu, "wall_s": wall, "command": " ".join(cmd)}
-    with open(cost_path, "w") as g:
-        json.dump(cost, g, indent=1)
-    return summary, cost, False
+            return json.load(f), json.load(g)
+    return None
+
+
+def packing_of(run):
+    """The packing cache a run reads or writes (absolute path), or None: two runs packing the same file must
+    not run at once."""
+    value = None
+    for k, o in enumerate(run.overrides):
+        if k > 0 and run.overrides[k - 1] == "--set" and o.startswith("sample.file="):
+            value = o.split("=", 1)[1].strip().strip('"')
+    if value is None:
+        with open(os.path.join(ROOT, run.scene), "rb") as f:
+            value = tomllib.load(f).get("sample", {}).get("file", "")
+    if not value:
+        return None
+    return os.path.normpath(os.path.join(ROOT, os.path.dirname(run.scene), value))
+
+
+def estimated_cost(run):
+    """Relative cost for scheduling the longest runs first: steps ~ 1/(R dt) ~ N^(1/3)/(ratio speed),
+    work per step ~ N; the coupled model about doubles it (measured at 20 000 particles)."""
+    n = run.base if run.axis != "particles" else run.value
+    n = float(n) if n else 1.0
+    c = n ** (4.0 / 3.0)
+    if run.axis == "safety_ratio":
+        c *= 0.15 / float(run.value)
+    if run.axis == "speed_m_per_s":
+        c *= 20.0 / float(run.value)
+    if run.axis == "model":
+        c *= 2.0
+    return c
+
+
+def run_all(binary, runs, out, jobs):
+    """Runs every run not yet in out, at most `jobs` at once (each on one thread, longest first); returns
+    {label: (summary, cost, cached)}. Each run's CPU time is its own process's (wait4)."""
+    results, todo = {}, []
+    for r in runs:
+        done = cached_result(os.path.join(out, r.label))
+        if done is not None:
+            results[r.label] = (*done, True)
+        else:
+            todo.append(r)
+    todo.sort(key=estimated_cost, reverse=True)
+    running = {}  # pid -> (run, proc, start, cmd, log file)
+    total = len(todo)
+    while todo or running:
+        busy = {packing_of(r) for r, *_ in running.values()}
+        for r in list(todo):
+            if len(running) >= jobs:
+                break
+            pk = packing_of(r)
+            if pk is not None and not os.path.exists(pk) and pk in busy:
+                continue  # another run is packing this file: wait for it
+            todo.remove(r)
+            out_dir = os.path.join(out, r.label)
+            os.makedirs(out_dir, exist_ok=True)
+            cmd = [binary, "run", os.path.join(ROOT, r.scene), "--out", out_dir, "--threads", "1", "--quiet"] \
+                + r.overrides
+            lf = open(os.path.join(out_dir, "log.txt"), "w")
+            proc = subprocess.Popen(cmd, stdout=lf, stderr=subprocess.STDOUT, cwd=ROOT)
+            running[proc.pid] = (r, proc, time.monotonic(), cmd, lf)
+            busy.add(pk)
+            print(f"[{total - len(todo) - len(running) + 1}..{total - len(todo)}/{total}] started {r.label} "
+                  f"({time.strftime('%H:%M:%S')})", flush=True)
+        pid, status, usage = os.wait4(-1, 0)
+        if pid not in running:
+            continue
+        r, proc, start, cmd, lf = running.pop(pid)
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        lf.close()
+        wall = time.monotonic() - start
+        out_dir = os.path.join(out, r.label)
+        if proc.returncode != 0:
+            for other in running.values():
+                other[1].kill()
+            raise SystemExit(f"run failed (exit {proc.returncode}): {' '.join(cmd)}; see {out_dir}/log.txt")
+        with open(os.path.join(out_dir, "summary.json")) as f:
+            summary = json.load(f)
+        cost = {"cpu_s": usage.ru_utime + usage.ru_stime, "wall_s": wall, "jobs": jobs, "command": " ".join(cmd)}
+        with open(os.path.join(out_dir, "cost.json"), "w") as g:
+            json.dump(cost, g, indent=1)
+        results[r.label] = (summary, cost, False)
+        print(f"    {r.label} done: {summary['particles']} particles, {summary['steps']} steps, "
+              f"cpu {cost['cpu_s']:.1f} s, wall {wall:.1f} s", flush=True)
+    return results
 
 
 def deviation(a, b):
@@ -125,10 +231,14 @@ def main():
     ap.add_argument("--binary", default=os.path.join(ROOT, "build", "vitrum"))
     ap.add_argument("--reuse", action="append", default=[], metavar="VALUE=DIR",
                     help="take the particles=VALUE run from DIR/summary.json (cost from its wall_time_s and threads)")
+    ap.add_argument("--jobs", type=int, default=1, help="runs at once, each on one thread (default 1)")
     ap.add_argument("--no-plot", action="store_true")
     ap.add_argument("--fresh", action="store_true", help="ignore (delete) earlier runs in the output folder")
     args = ap.parse_args()
-    scene, runs, default = preset_runs(args.preset)
+    if args.jobs < 1:
+        raise SystemExit(f"--jobs {args.jobs}: expected a positive number of runs at once")
+    runs, default, settings = preset_runs(args.preset)
+    scene = runs[0].scene
     out = args.out or os.path.join("out", f"accuracy-cost-{args.preset}")
     if args.fresh and os.path.isdir(out):
         import shutil
@@ -136,41 +246,46 @@ def main():
     os.makedirs(out, exist_ok=True)
     reuse = dict(r.split("=", 1) for r in args.reuse)
 
-    rows = []
-    for k, (axis, value, overrides) in enumerate(runs):
-        label = f"{axis}-{value}"
-        if axis == "particles" and value in reuse:
-            with open(os.path.join(reuse[value], "summary.json")) as f:
+    results = {}
+    for r in runs:
+        if r.axis == "particles" and r.value in reuse:
+            with open(os.path.join(reuse[r.value], "summary.json")) as f:
                 summary = json.load(f)
             cost = {"cpu_s": summary["wall_time_s"] * summary["threads"], "wall_s": summary["wall_time_s"],
-                    "command": f"reused {reuse[value]} ({summary['threads']} threads: cpu_s = wall x threads)"}
-            cached = True
-        else:
-            print(f"[{k + 1}/{len(runs)}] {label} ...", flush=True)
-            summary, cost, cached = run_one(args.binary, scene, os.path.join(out, label), overrides, sys.stdout)
+                    "command": f"reused {reuse[r.value]} ({summary['threads']} threads: cpu_s = wall x threads)"}
+            results[r.label] = (summary, cost, True)
+    results.update(run_all(args.binary, [r for r in runs if r.label not in results], out, args.jobs))
+
+    rows = []
+    for r in runs:
+        summary, cost, cached = results[r.label]
         metrics = scaled(summary)
-        rows.append({"axis": axis, "value": value, "particles": summary["particles"], "steps": summary["steps"],
-                     "cpu_s": cost["cpu_s"], "wall_s": cost["wall_s"], "cached": cached, **metrics})
-        print(f"    {summary['particles']} particles, {summary['steps']} steps, cpu {cost['cpu_s']:.1f} s, "
+        rows.append({"axis": r.axis, "value": r.value, "base": r.base or "", "particles": summary["particles"],
+                     "steps": summary["steps"], "cpu_s": cost["cpu_s"], "wall_s": cost["wall_s"],
+                     "jobs": cost.get("jobs", 1), "cached": cached, **metrics})
+        print(f"    {r.label}: {summary['particles']} particles, {summary['steps']} steps, cpu {cost['cpu_s']:.1f} s, "
               + ", ".join(f"{SHORT[m]} {metrics[m]:.4g}" for m in METRICS), flush=True)
 
-    finest = rows[0]
-    # The default-setting run on each axis is the particles run at the default count.
-    default_row = next((r for r in rows if r["axis"] == "particles" and r["value"] == default.get("particles")), None)
+    particle_rows = {q["value"]: q for q in rows if q["axis"] == "particles"}
+    finest = max(particle_rows.values(), key=lambda q: int(q["value"]))
+    default_row = particle_rows.get(default)
     for r in rows:
-        axis_rows = [q for q in rows if q["axis"] == r["axis"]]
-        if r["axis"] != "particles" and default_row is not None:
-            axis_rows = axis_rows + [default_row]
-        # The most accurate value of an axis: most particles, smallest ratio, slowest speed, (damping: none is
-        # best; take the default run as the axis reference).
+        # An axis is varied around the default-setting run at its base particle count; the most accurate value
+        # of an axis is its reference: most particles, smallest ratio, slowest speed; damping has no "most
+        # accurate" value (the default run is the reference); the coupled model is compared with DEM-only.
+        base_row = particle_rows.get(r["base"])
+        axis_rows = [q for q in rows if q["axis"] == r["axis"] and q["base"] == r["base"]]
+        axis_rows += [base_row] if base_row is not None else []
         if r["axis"] == "particles":
-            ref = max(axis_rows, key=lambda q: int(q["value"]) if q["axis"] == "particles" else -1)
+            ref = finest
         elif r["axis"] == "safety_ratio":
-            ref = min(axis_rows, key=lambda q: float(q["value"]) if q["axis"] == "safety_ratio" else 1e9)
+            ref = min(axis_rows, key=lambda q: float(q["value"]) if q["axis"] == "safety_ratio"
+                      else settings["safety_ratio"])
         elif r["axis"] == "speed_m_per_s":
-            ref = min(axis_rows, key=lambda q: float(q["value"]) if q["axis"] == "speed_m_per_s" else 1e9)
+            ref = min(axis_rows, key=lambda q: float(q["value"]) if q["axis"] == "speed_m_per_s"
+                      else settings["speed_m_per_s"])
         else:
-            ref = default_row or finest
+            ref = base_row or finest
         for m in METRICS:
             r[f"dev_finest_{SHORT[m]}"] = deviation(r[m], finest[m])
             r[f"dev_axis_{SHORT[m]}"] = deviation(r[m], ref[m])
@@ -186,9 +301,12 @@ def main():
         w.writeheader()
         w.writerows(rows)
 
-    lines = [f"# Accuracy against cost: {scene} (preset {args.preset}, 1 thread per run)", "",
-             "Metrics scaled to 0.1 N (um3, um). dev = deviation from the finest run (the first row); "
-             "axis = from the most accurate value on the run's own axis; error = largest |dev| over V-, Vd, D, L.",
+    jobs = sorted({r["jobs"] for r in rows if not r["cached"]} | {args.jobs})
+    lines = [f"# Accuracy against cost: {scene} (preset {args.preset}, 1 thread per run, "
+             f"{'/'.join(map(str, jobs))} run(s) at once)", "",
+             "Metrics scaled to 0.1 N (um3, um). dev = deviation from the finest run (most particles); "
+             "axis = from the most accurate value on the run's own axis at the same particle count (model: "
+             "from DEM-only); error = largest |dev| over V-, Vd, D, L.",
              "", "| axis | value | particles | steps | CPU s | wall s | V- | Vd | D | L | error vs finest | "
              "error on its axis | V- vs paper DEM | D vs Ji exp. |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -207,7 +325,7 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, ax = plt.subplots(figsize=(7, 5))
-        markers = {"particles": "o", "safety_ratio": "s", "speed_m_per_s": "^", "cundall": "D"}
+        markers = {"particles": "o", "safety_ratio": "s", "speed_m_per_s": "^", "cundall": "D", "model": "*"}
         for axis, mk in markers.items():
             pts = [r for r in rows if r["axis"] == axis and r is not finest]
             if pts:

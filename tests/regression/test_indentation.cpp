@@ -31,10 +31,13 @@ TEST(Indentation, ReducedQuickstartRunsEveryStageAndWritesTheImprintMetrics) {
         << readText(dir / "log.txt");
     const nlohmann::json s = readSummary(dir);
     const nlohmann::json& m = s["measurements"];
-    for (const char* key : {"V_minus_um3", "V_plus_um3", "V_d_um3", "depth_um", "diagonal_um", "max_force_N",
-                            "max_depth_um", "hardness_GPa", "densified_volume_um3", "slider_densified_volume_um3"}) {
+    for (const char* key : {"V_minus_um3", "V_plus_um3", "V_plus_print_um3", "V_d_um3", "depth_um", "diagonal_um",
+                            "max_force_N", "max_depth_um", "hardness_GPa", "densified_volume_um3",
+                            "slider_densified_volume_um3"}) {
         EXPECT_TRUE(m.contains(key)) << key;
     }
+    // V⁺_L integrates the same positive part over a smaller disc (r < L inside r < the annulus).
+    EXPECT_LE(m["V_plus_print_um3"].get<double>(), m["V_plus_um3"].get<double>());
     EXPECT_TRUE(m["stages_complete"].get<bool>());
     // The controller's bound from the issue: the target is reached and never overshot by more than 1 %.
     EXPECT_GE(m["max_force_N"].get<double>(), 0.004);

@@ -71,6 +71,36 @@ TEST(Imprint, PileUpRingGivesVPlusAndSmoothingConservesVolume) {
     }
 }
 
+TEST(Imprint, PrintScaledPileUpKeepsTheRimAndDropsTheFarFieldRelief) {
+    // A pyramidal print (depth 0.4 µm, L = 2√2 D/tan 22° = 2.80 µm), a pile-up ring against it (r1 = 2 µm < L)
+    // and a relief ring of the far field (r2 = 5 µm > L): V⁺ holds both rings, V⁺_L only the first.
+    const double depth = 0.4;
+    const double slope = std::tan(22.0 * kPi / 180.0);
+    const double b1 = 0.01, r1 = 2.0, w1 = 0.1, b2 = 0.005, r2 = 5.0, w2 = 0.2;
+    const auto ring = [](double r, double b, double r0, double w) {
+        return b * std::exp(-0.5 * (r - r0) * (r - r0) / (w * w));
+    };
+    const SurfaceGrid before = fill(10.0, 0.02, [](double, double) { return 0.0; });
+    const SurfaceGrid after = fill(10.0, 0.02, [&](double x, double y) {
+        const double r = std::hypot(x, y);
+        return -std::max(0.0, depth - slope * std::max(std::abs(x), std::abs(y))) + ring(r, b1, r1, w1) +
+               ring(r, b2, r2, w2);
+    });
+    ImprintParams p;
+    p.far_inner = 8.0;
+    p.far_outer = 10.0;
+    p.spacing = 0.02;
+    p.smoothing = 0.0;
+    const ImprintMetrics m = measureImprint(before, after, p);
+    const double inner = 2.0 * kPi * r1 * b1 * w1 * std::sqrt(2.0 * kPi);
+    const double outer = 2.0 * kPi * r2 * b2 * w2 * std::sqrt(2.0 * kPi);
+    EXPECT_NEAR(m.diagonal, 2.0 * std::sqrt(2.0) * depth / slope, 0.02);
+    // Thin-ring volumes: curvature terms (w/r0)² ≤ 0.25 %, grid (h/w)² ≤ 4 %·(1/12) for the midpoint rule, and
+    // the rings' tails beyond r = L (8 w1 from r1) are below 1e-13 of the first ring: 1 % covers all.
+    EXPECT_NEAR(m.v_plus / (inner + outer), 1.0, 0.01);
+    EXPECT_NEAR(m.v_plus_print / inner, 1.0, 0.01);
+}
+
 TEST(Imprint, EnvelopeOfOneSphereIsItsCap) {
     const double position[3] = {0.1, -0.2, -1.0};
     const double radius[1] = {0.5};

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """How V+ (and V-) of a residual imprint depend on the far-field reference and on the integration radius.
 
-Usage: vplus.py RUN_DIR [RUN_DIR ...]                 the reported metric, the offsets of all runs and offset 0
+Usage: vplus.py RUN_DIR [RUN_DIR ...]                 the reported metric, the offsets of all runs and offset 0,
+                                                      and V+_L (the positive part over r < L, as the summary's
+                                                      V_plus_print_um3 of later builds)
        vplus.py --annulus A B RUN_DIR [RUN_DIR ...]   far field = mean of the change over A <= r < B um,
                                                       integrals over r < A (a smaller disc than the summary's)
 Each run's imprint.csv holds the smoothed, far-field-corrected surface change dh on its grid (r < the summary's
@@ -45,4 +47,8 @@ for d, (s, change, cell, inner) in runs.items():
         vp, vm = volumes(change, cell, ref, inner)
         print(f"   {name:40s} V+ {vp:.4f}  V- {vm:.4f}")
     area = sum(1 for r, v in change if r < inner and v > offsets[d]) * cell
+    diag = s["diagonal_um"]
+    vl = sum(max(v - offsets[d], 0.0) for r, v in change if r < min(diag, inner)) * cell
+    print(f"   V+_L (print-scaled, r < L = {diag:.3f} um, own offset) {vl:.4f}"
+          + (f" (summary: {s['V_plus_print_um3']:.4f})" if "V_plus_print_um3" in s else ""))
     print(f"   dV+/d(offset) = -{area:.1f} um2 (area with dh > 0): 1 nm moves V+ by {area * 1e-3:.3f} um3")
