@@ -24,8 +24,8 @@ Presets:
 
 Every run uses --threads 1 (results do not depend on the thread count; one thread makes the CPU time a
 clean cost). --jobs N runs N of them at once (the study is embarrassingly parallel); each run's CPU time is
-then its own (wait4), but runs sharing the memory bus cost more than alone (measured: 1.2-1.3x at 10^5
-particles on the 2-core development VM), so compare costs within one --jobs setting. Runs whose summary.json
+then its own (wait4), but runs sharing the memory bus cost more than alone (README: measured), so compare
+costs within one --jobs setting (the table's title and cost.json record it). Runs whose summary.json
 exists in the output folder are reused, so an interrupted study continues where it stopped. Double precision
 throughout: vitrum has no mixed-precision path, so that axis of the issue does not apply.
 
@@ -195,8 +195,8 @@ def run_all(binary, runs, out, jobs):
             proc = subprocess.Popen(cmd, stdout=lf, stderr=subprocess.STDOUT, cwd=ROOT)
             running[proc.pid] = (r, proc, time.monotonic(), cmd, lf)
             busy.add(pk)
-            print(f"[{total - len(todo) - len(running) + 1}..{total - len(todo)}/{total}] started {r.label} "
-                  f"({time.strftime('%H:%M:%S')})", flush=True)
+            print(f"[{total - len(todo)}/{total}] started {r.label} ({time.strftime('%H:%M:%S')}; "
+                  f"{len(running)} running)", flush=True)
         pid, status, usage = os.wait4(-1, 0)
         if pid not in running:
             continue
