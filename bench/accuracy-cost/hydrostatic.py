@@ -43,10 +43,10 @@ import json
 import os
 import re
 import shutil
-import subprocess
 import sys
-import time
 import tomllib
+
+from measured import run_measured
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -116,14 +116,8 @@ def run_one(binary, cfg, folder, start, seed):
            "--tolerances", "99,99,99", "--threads", "1", "--pressures", ",".join(str(p) for p in cfg["pressures"]),
            "--ramp", str(ramp), "--hold", str(hold), "--release", str(release), "--rest", str(rest),
            "--set", f"time.safety_ratio={cfg['ratio']}", "--out", folder, "--output", scratch]
-    t0 = time.monotonic()
-    with open(os.path.join(folder, "log.txt"), "w") as log:
-        p = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, cwd=ROOT,
-                             env={**os.environ, "OMP_NUM_THREADS": "1", "OMP_WAIT_POLICY": "passive"})
-        _, status, usage = os.wait4(p.pid, 0)
-    rc = os.waitstatus_to_exitcode(status)
-    cost = {"cpu_s": usage.ru_utime + usage.ru_stime, "wall_s": time.monotonic() - t0, "exit": rc,
-            "max_rss_MB": usage.ru_maxrss / 1024.0, "command": " ".join(cmd)}
+    rc, cost = run_measured(cmd, os.path.join(folder, "log.txt"), ROOT)
+    cost["exit"] = rc
     if rc != 0:
         # A watchdog stop is a result (this configuration is not stable), anything else an error.
         with open(os.path.join(folder, "log.txt")) as f:

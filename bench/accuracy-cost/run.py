@@ -38,11 +38,12 @@ import csv
 import json
 import math
 import os
-import resource
-import subprocess
 import sys
+import threading
 import time
 import tomllib
+
+from measured import run_measured
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
@@ -166,8 +167,9 @@ def estimated_cost(run):
 
 
 def run_all(binary, runs, out, jobs):
-    """Runs every run not yet in out, at most `jobs` at once (each on one thread, longest first); returns
-    {label: (summary, cost, cached)}. Each run's CPU time is its own process's (wait4)."""
+    """Runs every run not yet in out, at most `jobs` at once, each on one thread: the longest first, except that
+    a run whose packing cache another run is still making waits for it; returns {label: (summary, cost,
+    cached)}."""
     results, todo = {}, []
     for r in runs:
         done = cached_result(os.path.join(out, r.label))
@@ -176,47 +178,57 @@ def run_all(binary, runs, out, jobs):
         else:
             todo.append(r)
     todo.sort(key=estimated_cost, reverse=True)
-    running = {}  # pid -> (run, proc, start, cmd, log file)
-    total = len(todo)
-    while todo or running:
-        busy = {packing_of(r) for r, *_ in running.values()}
-        for r in list(todo):
-            if len(running) >= jobs:
-                break
-            pk = packing_of(r)
-            if pk is not None and not os.path.exists(pk) and pk in busy:
-                continue  # another run is packing this file: wait for it
-            todo.remove(r)
+    total, packing_now, failures = len(todo), set(), []
+    cond = threading.Condition()
+
+    def next_run():
+        # The first run in the queue whose packing is cached or not being made by a running run (None: done).
+        with cond:
+            while todo and not failures:
+                for r in todo:
+                    pk = packing_of(r)
+                    if pk is None or os.path.exists(pk) or pk not in packing_now:
+                        todo.remove(r)
+                        packing_now.add(pk)
+                        return r, pk
+                cond.wait()
+            return None, None
+
+    def worker():
+        while True:
+            r, pk = next_run()
+            if r is None:
+                return
             out_dir = os.path.join(out, r.label)
             os.makedirs(out_dir, exist_ok=True)
             cmd = [binary, "run", os.path.join(ROOT, r.scene), "--out", out_dir, "--threads", "1", "--quiet"] \
                 + r.overrides
-            lf = open(os.path.join(out_dir, "log.txt"), "w")
-            proc = subprocess.Popen(cmd, stdout=lf, stderr=subprocess.STDOUT, cwd=ROOT)
-            running[proc.pid] = (r, proc, time.monotonic(), cmd, lf)
-            busy.add(pk)
-            print(f"[{total - len(todo)}/{total}] started {r.label} ({time.strftime('%H:%M:%S')}; "
-                  f"{len(running)} running)", flush=True)
-        pid, status, usage = os.wait4(-1, 0)
-        if pid not in running:
-            continue
-        r, proc, start, cmd, lf = running.pop(pid)
-        proc.returncode = os.waitstatus_to_exitcode(status)
-        lf.close()
-        wall = time.monotonic() - start
-        out_dir = os.path.join(out, r.label)
-        if proc.returncode != 0:
-            for other in running.values():
-                other[1].kill()
-            raise SystemExit(f"run failed (exit {proc.returncode}): {' '.join(cmd)}; see {out_dir}/log.txt")
-        with open(os.path.join(out_dir, "summary.json")) as f:
-            summary = json.load(f)
-        cost = {"cpu_s": usage.ru_utime + usage.ru_stime, "wall_s": wall, "jobs": jobs, "command": " ".join(cmd)}
-        with open(os.path.join(out_dir, "cost.json"), "w") as g:
-            json.dump(cost, g, indent=1)
-        results[r.label] = (summary, cost, False)
-        print(f"    {r.label} done: {summary['particles']} particles, {summary['steps']} steps, "
-              f"cpu {cost['cpu_s']:.1f} s, wall {wall:.1f} s", flush=True)
+            print(f"started {r.label} ({time.strftime('%H:%M:%S')})", flush=True)
+            rc, cost = run_measured(cmd, os.path.join(out_dir, "log.txt"), ROOT)
+            with cond:
+                packing_now.discard(pk)
+                cond.notify_all()
+                if rc != 0:
+                    failures.append(f"run failed (exit {rc}): {' '.join(cmd)}; see {out_dir}/log.txt")
+                    return
+            cost["jobs"] = jobs
+            with open(os.path.join(out_dir, "cost.json"), "w") as g:
+                json.dump(cost, g, indent=1)
+            with open(os.path.join(out_dir, "summary.json")) as f:
+                summary = json.load(f)
+            with cond:
+                results[r.label] = (summary, cost, False)
+                print(f"[{sum(1 for v in results.values() if not v[2])}/{total}] {r.label} done: "
+                      f"{summary['particles']} particles, {summary['steps']} steps, cpu {cost['cpu_s']:.1f} s, "
+                      f"wall {cost['wall_s']:.1f} s", flush=True)
+
+    threads = [threading.Thread(target=worker) for _ in range(jobs)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if failures:
+        raise SystemExit("; ".join(failures))
     return results
 
 
