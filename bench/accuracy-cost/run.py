@@ -370,10 +370,12 @@ def main():
         ax.set_title(f"What accuracy costs: {os.path.basename(scene)}")
         ax.legend(fontsize=8)
         # Right: each non-particle axis against its own reference at its base particle count.
+        axis_errors = [r["error_axis"] for r in rows if r["axis"] != "particles" and r["error_axis"] > 0]
+        floor = 0.5 * min(axis_errors) if axis_errors else 1e-4  # the axis' own reference (error 0) sits here
         for axis, mk in markers.items():
             pts = [r for r in rows if r["axis"] == axis and r["axis"] != "particles"]
             if pts:
-                ys = [max(floor, r["error_axis"]) for r in pts]  # the axis' own reference sits at the floor
+                ys = [max(floor, r["error_axis"]) for r in pts]
                 bx.scatter([r["cpu_s"] for r in pts], ys, marker=mk, color=colours[axis], label=axis)
                 for r, y in zip(pts, ys):
                     bx.annotate(f"{r['value']} @{r['particles']}", (r["cpu_s"], y), fontsize=7, xytext=(3, 3),
