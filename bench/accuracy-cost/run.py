@@ -24,8 +24,9 @@ Presets:
 
 Every run uses --threads 1 (results do not depend on the thread count; one thread makes the CPU time a
 clean cost). --jobs N runs N of them at once (the study is embarrassingly parallel); each run's CPU time is
-then its own (wait4), but runs sharing the memory bus cost more than alone (README: measured), so compare
-costs within one --jobs setting (the table's title and cost.json record it). Runs whose summary.json
+then its own (wait4), but runs sharing the memory bus cost more than alone (measured: 1.37x for the
+20 000-particle run of the paper preset on the 2-core development VM, README), so compare costs within one
+--jobs setting (the table's title and cost.json record it). Runs whose summary.json
 exists in the output folder are reused, so an interrupted study continues where it stopped. Double precision
 throughout: vitrum has no mixed-precision path, so that axis of the issue does not apply.
 
