@@ -51,9 +51,8 @@ void bridgeResidual(const BridgeView& b, const double* d, double* g) {
         const std::size_t J = static_cast<std::size_t>(b.multiplier_node[K]);
         double s[3] = {0.0, 0.0, 0.0};
         for (std::int32_t t = b.node_offset[J]; t < b.node_offset[J + 1]; ++t) {
-            const std::int32_t e = b.node_entry[t];
             const std::size_t p = static_cast<std::size_t>(b.node_row[t]);
-            const double wN = b.quadrature[p] * b.value[e];
+            const double wN = b.node_weight[t];
             for (std::size_t c = 0; c < 3; ++c)
                 s[c] += wN * d[3 * p + c];
         }
@@ -88,9 +87,8 @@ void bridgeCorrect(const BridgeView& b, const double* lambda, const double* inv_
             return;
         double s[3] = {0.0, 0.0, 0.0};
         for (std::int32_t t = b.node_offset[J]; t < b.node_offset[J + 1]; ++t) {
-            const std::int32_t e = b.node_entry[t];
             const std::size_t p = static_cast<std::size_t>(b.node_row[t]);
-            const double wN = b.quadrature[p] * b.value[e];
+            const double wN = b.node_weight[t];
             for (std::size_t c = 0; c < 3; ++c)
                 s[c] += wN * lt[3 * p + c];
         }

@@ -64,6 +64,7 @@ struct BridgeView {
     const std::int32_t* node_offset = nullptr; ///< nodes + 1
     const std::int32_t* node_entry = nullptr;  ///< entry index e
     const std::int32_t* node_row = nullptr;    ///< bridging particle of entry e
+    const double* node_weight = nullptr;       ///< w_p N_J(x_p) of entry e (the transpose's own copy, in its order)
 };
 
 /// Multiplies every bond's loads (force, both torques) by its weight α_d(x_mid) (note §4.3). Run between

@@ -40,6 +40,7 @@ BridgeView Bridge::view() const {
     v.node_offset = node_offset.data();
     v.node_entry = node_entry.data();
     v.node_row = node_row.data();
+    v.node_weight = node_weight.data();
     return v;
 }
 
@@ -223,12 +224,15 @@ Bridge buildBridge(const Particles& particles, const Bonds& bonds, const CnemMod
         b.node_offset[J + 1] += b.node_offset[J];
     b.node_entry.resize(b.node.size());
     b.node_row.resize(b.node.size());
+    b.node_weight.resize(b.node.size());
     std::vector<std::int32_t> fill(b.node_offset.begin(), b.node_offset.end() - 1);
     for (std::size_t p = 0; p < P; ++p) {
         for (std::int32_t e = b.offset[p]; e < b.offset[p + 1]; ++e) {
             const std::int32_t t = fill[static_cast<std::size_t>(b.node[e])]++;
             b.node_entry[static_cast<std::size_t>(t)] = e;
             b.node_row[static_cast<std::size_t>(t)] = static_cast<std::int32_t>(p);
+            // The product the residual and the node correction gather, formed once (the same rounding).
+            b.node_weight[static_cast<std::size_t>(t)] = b.quadrature[p] * b.value[static_cast<std::size_t>(e)];
         }
     }
 

@@ -83,6 +83,7 @@ struct Bridge {
     std::vector<std::int32_t> multiplier_node;                   ///< K → J
     std::vector<double> multiplier_weight;                       ///< K: Σ_i w_i N_K(x_i), µm³
     std::vector<std::int32_t> node_offset, node_entry, node_row; ///< transpose J → entries
+    std::vector<double> node_weight;                             ///< transpose: w_p N_J(x_p) per entry
     std::shared_ptr<const BridgeFactor> factor;
     // Scratch of the projection.
     std::vector<double> mismatch, residual, lambda, lambda_at_particle, cnem_scratch;
