@@ -509,7 +509,7 @@ int runScene(const RunOptions& options) {
         } catch (const NumericalInstability& e) {
             series.flush();
             throw NumericalInstability(
-                e.what() + reportInstability(out, CheckpointMeta{0, 0.0, dt, scene.name, scene_sha256, kVersion, {}},
+                e.what() + reportInstability(out, CheckpointMeta{0, 0.0, dt, scene.name, scene_sha256, kVersion, {}, {}, {}},
                                              critical.dt, model, last_good, e.particle),
                 e.particle, e.step);
         }
