@@ -152,8 +152,10 @@ TEST(Restart, RefusesACheckpointOfAnotherScene) {
 TEST(Restart, SigtermSavesACheckpointThatRestartsToTheSameState) {
     // SIGTERM mid-run: exit code 1, a message naming the checkpoint, and a state.h5 from which the run
     // completes to the same final state as an uninterrupted run.
-    // About 3 s on 2 idle cores (2 000 particles, 3 600 steps), so the signal at 1 s lands mid-run.
-    const std::string longer = " --quiet --set sample.particles=2000 --set time.duration=10.0";
+    // The signal at 1 s must land mid-run, so the run must take several seconds on the fastest machine that
+    // runs the suite: 10 ns (0.85 s on 2 idle cores since the AVX2 beam lanes) let the run finish first; 60 ns
+    // take 4.3 s there (a 4x margin; slower or loaded machines only widen it).
+    const std::string longer = " --quiet --set sample.particles=2000 --set time.duration=60.0";
     const fs::path full = freshTempDir("sigterm-full");
     const fs::path cut = freshTempDir("sigterm-cut");
     ASSERT_EQ(runVitrum("run " + kCompression + " --out " + full.string() + longer, full / "log.txt"), 0);
