@@ -18,9 +18,9 @@ Presets:
   paper  examples/vickers-0.1N.toml: particles 5 000 ... 100 000 (each count its own cached packing,
          examples/packings/hemisphere-12um-N-seed1.h5), at 20 000 particles the time-step ratio 0.1 / 0.3,
          loading speed 10 / 40 m/s, Cundall damping 0.15 / 0.6, and the coupled DEM-CNEM scene
-         (examples/vickers-0.1N-coupled.toml) at 100 000 particles against DEM-only. About 3 CPU hours:
-         --jobs 2 on a 2-core machine.
-  smoke  two tiny runs (a ctest): checks that the study runs end to end and writes its three outputs.
+         (examples/vickers-0.1N-coupled.toml) at 100 000 particles against DEM-only. 2.1 CPU hours, 1 h 20 min
+         with --jobs 2 on the 2-core development machine (the coupled run is the critical path).
+  smoke  three tiny runs (a ctest): checks that the study runs end to end and writes its three outputs.
 
 Every run uses --threads 1 (results do not depend on the thread count; one thread makes the CPU time a
 clean cost). --jobs N runs N of them at once (the study is embarrassingly parallel); each run's CPU time is
