@@ -88,7 +88,7 @@ void reportCommon(benchmark::State& state, const BenchModel& bm, double dram_byt
     state.counters["particles"] = static_cast<double>(bm.model.particles.size());
     state.counters["bonds"] = static_cast<double>(bm.model.bonds.size());
     state.counters["threads"] = vitrum::threadCount();
-    state.counters["lanes"] = vitrum::beamLanes(); // SIMD lanes of the beam pass (2: SSE2, 4: AVX2)
+    state.counters["lanes"] = vitrum::beamLanes(); // SIMD lanes of the beam pass (2: SSE2, 4: AVX2, 8: AVX-512F)
     if (dram_bytes_per_iteration > 0.0) {
         state.counters["dram_Bps"] = benchmark::Counter(
             dram_bytes_per_iteration * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
@@ -231,12 +231,12 @@ void timeBeamPass(benchmark::State& state, bool densified) {
 /// mapping: the common case away from the indenter; the slip branch is not timed.
 void BM_BeamLoadsDensified(benchmark::State& state) { timeBeamPass(state, true); }
 
-/// Design bench: the beam pass in 2 SSE2 lanes vs 4 AVX2 lanes (kernels/beam_lanes.hpp; bit-identical results,
-/// BeamLanes.LaneWidthsAreBitIdentical), plain (variant 0) or with the spring-slider and property evolution
-/// (variant 1, every bond on the elastic branch). The production pass takes 4 lanes where the CPU has AVX2.
+/// Design bench: the beam pass in 2 SSE2 lanes vs 4 AVX2 lanes vs 8 AVX-512F lanes (kernels/beam_lanes.hpp;
+/// bit-identical results, BeamLanes.LaneWidthsAreBitIdentical), plain (variant 0) or with the spring-slider and property evolution
+/// (variant 1, every bond on the elastic branch). The production pass takes the widest lanes the CPU has.
 void BM_BeamLanes(benchmark::State& state) {
     if (!vitrum::setBeamLanes(static_cast<int>(state.range(1)))) {
-        state.SkipWithError("CPU without AVX2");
+        state.SkipWithError("CPU without the instructions of this lane width");
         return;
     }
     timeBeamPass(state, state.range(2) != 0);
@@ -324,7 +324,10 @@ void BM_StreamTriad(benchmark::State& state) {
 /// chains of 4 doubles, one FMA each), the hardware's double-precision peak on this machine; vitrum uses no
 /// FMA (results would then depend on the machine's ISA), so no kernel can reach it. Variant 2: AVX2 without
 /// FMA (12 chains of 4 doubles, vmulpd + vaddpd), the peak of the beam pass in AVX2 lanes
-/// (kernels/beam_lanes.hpp). Variants 1 and 2 are skipped on a CPU without the instructions.
+/// (kernels/beam_lanes.hpp). Variant 3: AVX-512F without FMA (12 chains of 8 doubles, vmulpd + vaddpd on zmm),
+/// the peak of the beam pass in 8 lanes (on AMD Zen 4 a 512-bit operation takes two 256-bit pipe slots, so
+/// it equals variant 2 there; on Intel cores with two 512-bit FMA units it doubles it). Variants 1-3 are
+/// skipped on a CPU without the instructions.
 constexpr int kChains = 24;
 constexpr long kSweeps = 1L << 22;
 
@@ -361,9 +364,15 @@ __attribute__((target("avx2"))) double peakLoopAvx2(double m, double a) {
     return chainSweeps<kChainsFma>([=](double x) { return x * m + a; });
 }
 
+constexpr int kChainsAvx512 = 96;
+__attribute__((target("avx512f,prefer-vector-width=512"))) double peakLoopAvx512(double m, double a) {
+    return chainSweeps<kChainsAvx512>([=](double x) { return x * m + a; });
+}
+
 void BM_PeakFlops(benchmark::State& state) {
     const int variant = static_cast<int>(state.range(0));
-    if ((variant == 1 && !__builtin_cpu_supports("fma")) || (variant == 2 && !__builtin_cpu_supports("avx2"))) {
+    if ((variant == 1 && !__builtin_cpu_supports("fma")) || (variant == 2 && !__builtin_cpu_supports("avx2")) ||
+        (variant == 3 && !__builtin_cpu_supports("avx512f"))) {
         state.SkipWithError("CPU without the instructions of this variant");
         return;
     }
@@ -373,16 +382,22 @@ void BM_PeakFlops(benchmark::State& state) {
     const double a = 1e-6;
     for (auto _ : state) {
         vitrum::parallelFor("bench.peak", static_cast<std::size_t>(threads), [&](std::size_t t) {
-            sink[t] = variant == 1 ? peakLoopFma(m, a) : variant == 2 ? peakLoopAvx2(m, a) : peakLoopBuildIsa(m, a);
+            sink[t] = variant == 1   ? peakLoopFma(m, a)
+                      : variant == 2 ? peakLoopAvx2(m, a)
+                      : variant == 3 ? peakLoopAvx512(m, a)
+                                     : peakLoopBuildIsa(m, a);
         });
         benchmark::DoNotOptimize(sink.data());
     }
-    const double chains = variant == 0 ? kChains : kChainsFma;
+    const double chains = variant == 0 ? kChains : variant == 3 ? kChainsAvx512 : kChainsFma;
     const double flops = 2.0 * chains * static_cast<double>(kSweeps) * threads;
     state.counters["flops"] = benchmark::Counter(flops * static_cast<double>(state.iterations()),
                                                  benchmark::Counter::kIsRate);
     state.counters["threads"] = threads;
-    state.SetLabel(variant == 1 ? "avx2+fma" : variant == 2 ? "avx2 mul+add (the beam lanes' isa)" : "build isa (sse2 mul+add)");
+    state.SetLabel(variant == 1   ? "avx2+fma"
+                   : variant == 2 ? "avx2 mul+add (the 4-lane beam pass's isa)"
+                   : variant == 3 ? "avx-512f mul+add (the 8-lane beam pass's isa)"
+                                  : "build isa (sse2 mul+add)");
 }
 
 // ---- design bench: CSR gather vs atomic scatter ---------------------------------------------------------
@@ -623,12 +638,12 @@ BENCHMARK(BM_BeamLoadsViscous)->Apply(particleCounts);
 BENCHMARK(BM_Gather)->Apply(particleCounts);
 BENCHMARK(BM_Integrate)->Apply(particleCounts);
 BENCHMARK(BM_FullStep)->Apply(particleCounts);
-BENCHMARK(BM_PeakFlops)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PeakFlops)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_BeamLoadsDensified)->Apply(particleCounts);
 BENCHMARK(BM_FullStepDensified)->Apply(particleCounts);
 BENCHMARK(BM_BeamLanes)
     ->ArgNames({"n", "lanes", "densified"})
-    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {2, 4}, {0, 1}})
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {2, 4, 8}, {0, 1}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(BM_GatherVsAtomicScatter)

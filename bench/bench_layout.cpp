@@ -10,7 +10,10 @@
 //   BM_ParticleOrder/n/variant     beam loads + CSR gather (the production force evaluation) with the particles
 //                                  in Morton order (0, production: the sample builder sorts them) or relabelled
 //                                  by a random permutation (1; bonds re-sorted by their new lowest end, CSR
-//                                  rebuilt): what the space-filling curve buys.
+//                                  rebuilt): what the space-filling curve buys. Variant 2: Morton order, but
+//                                  the bonds sorted by their larger end (then the smaller), so that a bond's
+//                                  far end is the one the stream reached last (recently touched, cached)
+//                                  rather than one still ahead of it.
 //   BM_FusedGatherKick/n/variant   gather then half kick as two passes (0, production) or fused into one pass
 //                                  per particle (1: the summed force and torque update the velocities from
 //                                  registers; they are still stored, for probes and output). Valid only when
@@ -185,9 +188,10 @@ void BM_LayoutParticles(benchmark::State& state) {
 
 // ---- Morton order vs random order ----------------------------------------------------------------------
 
-/// The bench model relabelled by a random permutation of the particles: particle arrays permuted, each bond's
-/// ends relabelled (end roles kept, so the physics of every bond is unchanged), bonds re-sorted by their new
-/// smaller end (then the larger), CSR rebuilt. `inverse[new] = old` maps the results back for the check.
+/// Variant 1: the bench model relabelled by a random permutation of the particles: particle arrays permuted,
+/// each bond's ends relabelled (end roles kept, so the physics of every bond is unchanged), bonds re-sorted by
+/// their new smaller end (then the larger), CSR rebuilt. Variant 2: the identity relabelling, bonds sorted by
+/// their larger end (then the smaller). `old_of_new[new] = old` maps the results back for the check.
 struct ShuffledModel {
     vitrum::Particles particles;
     vitrum::Bonds bonds;
@@ -206,9 +210,9 @@ std::vector<T> permuteRows(const std::vector<T>& a, const std::vector<std::size_
     return out;
 }
 
-ShuffledModel& shuffledFor(long n) {
-    static std::map<long, std::unique_ptr<ShuffledModel>> cache;
-    auto it = cache.find(n);
+ShuffledModel& shuffledFor(long n, int variant) {
+    static std::map<std::pair<long, int>, std::unique_ptr<ShuffledModel>> cache;
+    auto it = cache.find({n, variant});
     if (it != cache.end()) {
         return *it->second;
     }
@@ -219,7 +223,9 @@ ShuffledModel& shuffledFor(long n) {
     std::vector<std::size_t> old_of_new(np);
     std::iota(old_of_new.begin(), old_of_new.end(), std::size_t{0});
     std::mt19937_64 rng(0x0bde7 + static_cast<std::uint64_t>(n));
-    std::shuffle(old_of_new.begin(), old_of_new.end(), rng);
+    if (variant == 1) {
+        std::shuffle(old_of_new.begin(), old_of_new.end(), rng);
+    }
     std::vector<std::int32_t> new_of_old(np);
     for (std::size_t r = 0; r < np; ++r) {
         new_of_old[old_of_new[r]] = static_cast<std::int32_t>(r);
@@ -244,7 +250,7 @@ ShuffledModel& shuffledFor(long n) {
     auto key = [&](std::size_t k) {
         const std::int32_t a = new_of_old[static_cast<std::size_t>(b.i[k])];
         const std::int32_t c = new_of_old[static_cast<std::size_t>(b.j[k])];
-        return std::pair(std::min(a, c), std::max(a, c));
+        return variant == 2 ? std::pair(std::max(a, c), std::min(a, c)) : std::pair(std::min(a, c), std::max(a, c));
     };
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return key(x) < key(y); });
     vitrum::Bonds& s = sm->bonds;
@@ -263,15 +269,15 @@ ShuffledModel& shuffledFor(long n) {
     s.broken = permuteRows(b.broken, order, 1);
     sm->incidence = vitrum::Incidence::build(np, s);
     sm->old_of_new = std::move(old_of_new);
-    return *cache.emplace(n, std::move(sm)).first->second;
+    return *cache.emplace(std::pair(n, variant), std::move(sm)).first->second;
 }
 
 void BM_ParticleOrder(benchmark::State& state) {
     BenchModel& bm = modelFor(state.range(0));
     const int variant = static_cast<int>(state.range(1));
-    vitrum::Particles& p = variant == 0 ? bm.model.particles : shuffledFor(state.range(0)).particles;
-    vitrum::Bonds& b = variant == 0 ? bm.model.bonds : shuffledFor(state.range(0)).bonds;
-    const vitrum::Incidence& inc = variant == 0 ? bm.model.incidence : shuffledFor(state.range(0)).incidence;
+    vitrum::Particles& p = variant == 0 ? bm.model.particles : shuffledFor(state.range(0), variant).particles;
+    vitrum::Bonds& b = variant == 0 ? bm.model.bonds : shuffledFor(state.range(0), variant).bonds;
+    const vitrum::Incidence& inc = variant == 0 ? bm.model.incidence : shuffledFor(state.range(0), variant).incidence;
     const vitrum::BondView bv = b.view();
     const vitrum::ParticleView pv = p.view();
     const vitrum::IncidenceView iv = inc.view();
@@ -286,7 +292,7 @@ void BM_ParticleOrder(benchmark::State& state) {
     if (variant == 0) {
         back = p.force;
     } else {
-        const std::vector<std::size_t>& old_of_new = shuffledFor(state.range(0)).old_of_new;
+        const std::vector<std::size_t>& old_of_new = shuffledFor(state.range(0), variant).old_of_new;
         for (std::size_t r = 0; r < old_of_new.size(); ++r) {
             for (int c = 0; c < 3; ++c) {
                 back[3 * old_of_new[r] + static_cast<std::size_t>(c)] = p.force[3 * r + static_cast<std::size_t>(c)];
@@ -299,7 +305,7 @@ void BM_ParticleOrder(benchmark::State& state) {
         vitrum::gatherBondLoads(iv, bv, pv);
         benchmark::ClobberMemory();
     }
-    state.SetLabel(variant == 0 ? "morton (production)" : "random permutation");
+    state.SetLabel(variant == 0 ? "morton (production)" : variant == 1 ? "random permutation" : "morton, bonds by larger end");
     commonCounters(state, pv.n, bv.n, rel);
 }
 
@@ -386,7 +392,7 @@ BENCHMARK(BM_LayoutParticles)
     ->UseRealTime();
 BENCHMARK(BM_ParticleOrder)
     ->ArgNames({"n", "variant"})
-    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1}})
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(BM_FusedGatherKick)

@@ -14,8 +14,9 @@ kernels/; see bench/README.md), the measured time (MINIMUM over the repetitions:
 every figure is an upper bound on the kernel's own time), the lower bound max(bytes/bandwidth, flops/peak)
 with the triad bandwidth (BM_StreamTriad) and the peak of the ISA the kernel runs in, measured in the same run:
 the build's baseline (BM_PeakFlops/0, SSE2 mul+add), or, for the beam pass and the steps that contain it when
-it ran in 4 AVX2 lanes (counter `lanes` = 4), the AVX2 mul+add peak (BM_PeakFlops/2; twice the SSE2 one), so
-a wider ISA never flatters the fraction. bound/measured = 1 is the roofline. Prints markdown.
+it ran in 4 AVX2 lanes (counter `lanes` = 4), the AVX2 mul+add peak (BM_PeakFlops/2; twice the SSE2 one), and
+in 8 AVX-512F lanes (`lanes` = 8) the AVX-512F mul+add peak (BM_PeakFlops/3), so a wider ISA never flatters
+the fraction. bound/measured = 1 is the roofline. Prints markdown.
 """
 import json
 import sys
@@ -87,16 +88,21 @@ def table(path):
     base_peak = max((c["flops"] for n, c in counters.items() if n.startswith("BM_PeakFlops/0")), default=None)
     fma = max((c["flops"] for n, c in counters.items() if n.startswith("BM_PeakFlops/1")), default=None)
     avx2 = max((c["flops"] for n, c in counters.items() if n.startswith("BM_PeakFlops/2")), default=None)
+    avx512 = max((c["flops"] for n, c in counters.items() if n.startswith("BM_PeakFlops/3")), default=None)
     lanes = int(max((c.get("lanes", 2) for n, c in counters.items() if n.startswith("BM_FullStep")), default=2))
     # Peak of the ISA the beam pass ran in (the bound of every beam kernel and step; the others run SSE2).
-    peak = avx2 if lanes == 4 and avx2 else base_peak
+    wide = {4: ("AVX2", avx2), 8: ("AVX-512F", avx512)}.get(lanes, ("build-ISA", None))
+    if lanes in (4, 8) and wide[1] is None:
+        sys.exit(f"{path}: the beam pass ran in {lanes} lanes but the run has no {wide[0]} peak (BM_PeakFlops)")
+    peak = wide[1] if wide[1] else base_peak
     out = []
     out.append(f"#### {path} ({TIME} time): {threads} thread(s); triad {triad / 1e9:.1f} GB/s" +
                (f" (reference; this run's own {measured_triad / 1e9:.1f})" if threads in TRIAD_REF else "") +
                "; build-ISA peak "
                f"{base_peak / 1e9:.1f} GFLOP/s" + (f", AVX2 mul+add peak {avx2 / 1e9:.1f}" if avx2 else "") +
+               (f", AVX-512F mul+add peak {avx512 / 1e9:.1f}" if avx512 else "") +
                (f" (AVX2+FMA peak {fma / 1e9:.1f}, unused)" if fma else "") +
-               f"; beam pass in {lanes} lanes, bounded with the {'AVX2' if peak is avx2 else 'build-ISA'} peak")
+               f"; beam pass in {lanes} lanes, bounded with the {wide[0]} peak")
     out.append("")
     out.append("| kernel | B/bond | B/particle | flop/bond | flop/particle | particles | measured ms | "
                "memory bound ms | compute bound ms | bound/measured |")

@@ -1,11 +1,11 @@
-// The beam pass W bonds at a time in SIMD lanes (W = 2: SSE2, W = 4: AVX2), kinematics, spring-slider
+// The beam pass W bonds at a time in SIMD lanes (W = 2: SSE2, W = 4: AVX2, W = 8: AVX-512F), kinematics, spring-slider
 // check, beam law (paper eqs 1–4, kernels/beam.hpp), bond-viscous dashpots and the store, all lane-wise.
 //
-// Lanes are GCC vector-extension doubles: every operation is element-wise IEEE (no FMA: the build has none
-// and the AVX2 translation unit enables "avx2" only), so a lane computes exactly what a scalar evaluation of
+// Lanes are GCC vector-extension doubles: every operation is element-wise IEEE (no FMA: the build has none,
+// the AVX2 translation unit enables "avx2" only and the AVX-512 one has fp-contract off), so a lane computes exactly what a scalar evaluation of
 // the same expression in the same order would. The lane expressions below are written in the order of the
 // scalar code they mirror (EulerBernoulliBeam::make and ::evaluate, densify and the dashpots), which makes
-// the W = 2 and W = 4 passes bit-identical to each other (tested: BeamKernel.LaneWidthsAreBitIdentical), so
+// the W = 2, 4 and 8 passes bit-identical to each other (tested: BeamLanes.LaneWidthsAreBitIdentical), so
 // which one a machine dispatches to never changes a result or a state_sha256.
 //
 // A bond leaves the lanes for the scalar path (decided per bond, never by the thread split) when it is
@@ -13,10 +13,10 @@
 // kinematics with atan2), or when its slider slips in this step (densify: return mapping and property
 // evolution). The lane results of the other bonds of its block are stored as usual.
 //
-// Internal to the kernels: included only by bond_kernels.cpp (W = 2) and bond_kernels_avx2.cpp (W = 4, under
-// `#pragma GCC target("avx2")`). Everything here has internal linkage on purpose: the AVX2 unit's copies of
-// these functions must never be merged by the linker with the baseline unit's (a machine without AVX2 would
-// then execute AVX2 code).
+// Internal to the kernels: included only by bond_kernels.cpp (W = 2), bond_kernels_avx2.cpp (W = 4, under
+// `#pragma GCC target("avx2")`) and bond_kernels_avx512.cpp (W = 8, `target("avx512f")`). Everything here has
+// internal linkage on purpose: the wide units' copies of these functions must never be merged by the linker
+// with the baseline unit's (a machine without AVX2 or AVX-512 would then execute their code).
 #pragma once
 
 #include <cmath>
@@ -45,6 +45,11 @@ template <>
 struct Lanes<4> {
     using Real = double __attribute__((vector_size(32)));
     using Mask = std::int64_t __attribute__((vector_size(32)));
+};
+template <>
+struct Lanes<8> {
+    using Real = double __attribute__((vector_size(64)));
+    using Mask = std::int64_t __attribute__((vector_size(64)));
 };
 
 

@@ -11,20 +11,24 @@ namespace vitrum {
 
 namespace {
 
-/// 0: automatic; 2 or 4: forced by setBeamLanes.
+/// 0: automatic; 2, 4 or 8: forced by setBeamLanes.
 std::atomic<int> forced_lanes{0};
 
 bool cpuHasAvx2() {
     static const bool has = __builtin_cpu_supports("avx2");
     return has;
 }
+bool cpuHasAvx512() {
+    static const bool has = __builtin_cpu_supports("avx512f");
+    return has;
+}
 
 /// The beam pass in the lanes of this CPU (the only place that chooses).
 void beamPass(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
-    if (beamLanes() == 4) {
-        detail::beamPassAvx2(b, p, pass);
-    } else {
-        beamPassInLanes<2>(b, p, pass);
+    switch (beamLanes()) {
+    case 8: detail::beamPassAvx512(b, p, pass); break;
+    case 4: detail::beamPassAvx2(b, p, pass); break;
+    default: beamPassInLanes<2>(b, p, pass); break;
     }
 }
 
@@ -32,11 +36,12 @@ void beamPass(const BondView& b, const ParticleView& p, const detail::BeamPass& 
 
 int beamLanes() {
     const int forced = forced_lanes.load(std::memory_order_relaxed);
-    return forced != 0 ? forced : (cpuHasAvx2() ? 4 : 2);
+    return forced != 0 ? forced : (cpuHasAvx512() ? 8 : cpuHasAvx2() ? 4 : 2);
 }
 
 bool setBeamLanes(int width) {
-    if (width != 0 && width != 2 && !(width == 4 && cpuHasAvx2())) {
+    const bool available = width == 0 || width == 2 || (width == 4 && cpuHasAvx2()) || (width == 8 && cpuHasAvx512());
+    if (!available) {
         return false;
     }
     forced_lanes.store(width, std::memory_order_relaxed);

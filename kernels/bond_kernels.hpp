@@ -29,11 +29,13 @@ void computeBeamLoads(const BondView& bonds, const ParticleView& particles, cons
 void computeBeamLoads(const BondView& bonds, const ParticleView& particles, const BondViscousDamping& damping,
                       const DensificationLaw& law, const DensificationView& state);
 
-/// SIMD lanes of the beam pass (kernels/beam_lanes.hpp): 4 doubles (AVX2) on a CPU that has AVX2, else 2
-/// (SSE2, the build's baseline). Both widths give bit-identical results, so the choice never changes a run.
+/// SIMD lanes of the beam pass (kernels/beam_lanes.hpp): 8 doubles (AVX-512F) on a CPU that has AVX-512F,
+/// else 4 (AVX2) where it has AVX2, else 2 (SSE2, the build's baseline). All widths give bit-identical
+/// results, so the choice never changes a run.
 int beamLanes();
-/// Forces the lane width for the following passes: 2, 4, or 0 for the automatic choice. Returns false and
-/// changes nothing if 4 is asked of a CPU without AVX2 (or any other width). For benchmarks and tests.
+/// Forces the lane width for the following passes: 2, 4, 8, or 0 for the automatic choice. Returns false and
+/// changes nothing if a width is asked of a CPU without its instructions (4: AVX2, 8: AVX-512F) or any other
+/// width. For benchmarks and tests.
 bool setBeamLanes(int width);
 
 /// Sets each particle's force and torque to the sum of its bonds' loads (CSR order). Overwrites.
@@ -55,6 +57,8 @@ struct BeamPass {
 };
 /// The pass in AVX2 lanes (bond_kernels_avx2.cpp); call only where the CPU has AVX2.
 void beamPassAvx2(const BondView& bonds, const ParticleView& particles, const BeamPass& pass);
+/// The pass in AVX-512 lanes (bond_kernels_avx512.cpp); call only where the CPU has AVX-512F.
+void beamPassAvx512(const BondView& bonds, const ParticleView& particles, const BeamPass& pass);
 } // namespace detail
 
 } // namespace vitrum

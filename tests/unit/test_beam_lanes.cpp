@@ -1,5 +1,5 @@
-// The beam pass in SIMD lanes (kernels/beam_lanes.hpp): 2 lanes (SSE2) and 4 lanes (AVX2, where the CPU has
-// it) must give bit-identical results for every variant of the pass, so that the lane width a machine
+// The beam pass in SIMD lanes (kernels/beam_lanes.hpp): 2 lanes (SSE2), 4 lanes (AVX2) and 8 lanes (AVX-512F),
+// each where the CPU has it, must give bit-identical results for every variant of the pass, so that the lane width a machine
 // dispatches to never changes a run or its state_sha256; and the lane path must agree with the scalar beam
 // law to round-off, including the bonds that leave the lanes (broken, beyond the series range, slipping).
 #include <algorithm>
@@ -20,7 +20,7 @@ namespace vitrum {
 namespace {
 
 /// An FCC sphere of 6 000 particles (its bond count is a multiple of 4 by symmetry; the passes below take all
-/// but its last bond, `passView`, so the last block of the 4-lane pass is partial),
+/// but its last bond, `passView`, an odd count, so the last block of the 4- and 8-lane passes is partial),
 /// every beam stretched, bent and twisted; every 97th particle turned by 0.3–0.6 rad (its bonds leave the
 /// series range), every 41st bond broken; with densification, bonds already slipped and bonds that slip now.
 Model laneTestModel(bool densify) {
@@ -104,27 +104,49 @@ std::vector<double> runPass(int variant, int lanes, int* slipped = nullptr) {
     return passOutputs(m);
 }
 
-TEST(BeamLanes, TheAutomaticChoiceIsAvx2WhereTheCpuHasIt) {
-    EXPECT_EQ(beamLanes(), __builtin_cpu_supports("avx2") ? 4 : 2);
+/// The widest lanes this CPU has.
+int widestLanes() { return __builtin_cpu_supports("avx512f") ? 8 : __builtin_cpu_supports("avx2") ? 4 : 2; }
+
+/// The lane widths this CPU can run.
+std::vector<int> availableLanes() {
+    std::vector<int> widths{2};
+    if (__builtin_cpu_supports("avx2")) {
+        widths.push_back(4);
+    }
+    if (__builtin_cpu_supports("avx512f")) {
+        widths.push_back(8);
+    }
+    return widths;
+}
+
+TEST(BeamLanes, TheAutomaticChoiceIsTheWidestTheCpuHas) {
+    EXPECT_EQ(beamLanes(), widestLanes());
     EXPECT_FALSE(setBeamLanes(3));
-    EXPECT_FALSE(setBeamLanes(8));
-    EXPECT_EQ(beamLanes(), __builtin_cpu_supports("avx2") ? 4 : 2); // a refused width changes nothing
+    EXPECT_FALSE(setBeamLanes(16));
+    EXPECT_EQ(setBeamLanes(4), __builtin_cpu_supports("avx2") != 0);
+    EXPECT_EQ(setBeamLanes(8), __builtin_cpu_supports("avx512f") != 0);
+    setBeamLanes(0);
+    EXPECT_EQ(beamLanes(), widestLanes()); // refused widths change nothing; 0 restores the automatic choice
 }
 
 TEST(BeamLanes, LaneWidthsAreBitIdentical) {
-    if (!__builtin_cpu_supports("avx2")) {
+    const std::vector<int> widths = availableLanes();
+    if (widths.size() < 2) {
         GTEST_SKIP() << "CPU without AVX2: only the 2-lane pass exists here";
     }
+    RecordProperty("lane_widths_compared", std::to_string(widths.size()));
     for (int variant = 0; variant < 5; ++variant) {
         int slipped = 0;
         const std::vector<double> two = runPass(variant, 2, &slipped);
-        const std::vector<double> four = runPass(variant, 4);
-        ASSERT_EQ(two.size(), four.size());
-        std::size_t differing = 0;
-        for (std::size_t e = 0; e < two.size(); ++e) {
-            differing += std::memcmp(&two[e], &four[e], sizeof(double)) != 0;
+        for (std::size_t w = 1; w < widths.size(); ++w) {
+            const std::vector<double> wide = runPass(variant, widths[w]);
+            ASSERT_EQ(two.size(), wide.size());
+            std::size_t differing = 0;
+            for (std::size_t e = 0; e < two.size(); ++e) {
+                differing += std::memcmp(&two[e], &wide[e], sizeof(double)) != 0;
+            }
+            EXPECT_EQ(differing, 0u) << "variant " << variant << ", " << widths[w] << " lanes against 2";
         }
-        EXPECT_EQ(differing, 0u) << "variant " << variant;
         if (variant >= 2) {
             // The slipping bonds take the scalar path: the test must exercise it.
             EXPECT_GT(slipped, 100) << "variant " << variant;
@@ -135,18 +157,16 @@ TEST(BeamLanes, LaneWidthsAreBitIdentical) {
 
 TEST(BeamLanes, LanePathMatchesTheScalarLawPerBond) {
     // Every bond's loads from the lane pass against EulerBernoulliBeam::evaluate(beamKinematics(…)) for the same
-    // bond, at both widths. They differ only in the order of operations inside the quaternion products (lane
+    // bond, at every width the CPU has. They differ only in the order of operations inside the quaternion products (lane
     // kinematics, ≈ 1e-16 relative on the angles; the loads are linear in them): 1e-12 of each bond's load
     // scale leaves four orders of magnitude for that and catches any wrong term. Bonds beyond the series range
     // (turned particles) and broken bonds are among them.
-    for (int lanes : {2, 4}) {
-        if (lanes == 4 && !__builtin_cpu_supports("avx2")) {
-            continue;
-        }
+    for (int lanes : availableLanes()) {
         ASSERT_TRUE(setBeamLanes(lanes));
         Model m = laneTestModel(false);
         const BondView b = passView(m);
         ASSERT_NE(b.n % 4, 0u);
+        ASSERT_NE(b.n % 8, 0u);
         const ParticleView p = m.particles.view();
         computeBeamLoads(b, p);
         setBeamLanes(0);
