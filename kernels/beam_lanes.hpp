@@ -154,6 +154,101 @@ template <int W>
     return {gatherStrided<W>(a, idx, 4, 0, lanes), gatherStrided<W>(a, idx, 4, 1, lanes),
             gatherStrided<W>(a, idx, 4, 2, lanes), gatherStrided<W>(a, idx, 4, 3, lanes)};
 }
+
+// A full block's bonds are W consecutive indices, so their per-bond fields are contiguous runs: W doubles
+// for a scalar field, 3W (x y z per bond) for a vector, 4W for a quaternion. A run is read with whole-vector
+// loads and split into its components with constant shuffles (two per component for a vector, eight for a
+// quaternion), and written back the same way, instead of one scalar load or store per lane and component.
+// Only data moves: the values and so the results are those of the per-lane gathers.
+template <int W>
+[[gnu::always_inline]] inline typename Lanes<W>::Real loadRun(const double* a) noexcept {
+    typename Lanes<W>::Real v;
+    __builtin_memcpy(&v, a, sizeof v);
+    return v;
+}
+template <int W>
+[[gnu::always_inline]] inline void storeRun(double* a, const typename Lanes<W>::Real& v) noexcept {
+    __builtin_memcpy(a, &v, sizeof v);
+}
+/// Shuffle masks (index into the concatenation of two W-lane vectors; unused lanes 0). Component c of a run of
+/// 3-vectors is element 3l + c: from the first two vectors where 3l + c < 2W (stage 1), else from the third
+/// (stage 2, which keeps stage 1's lanes).
+template <int W>
+constexpr std::int64_t split3Stage1(int c, int l) { return 3 * l + c < 2 * W ? 3 * l + c : 0; }
+template <int W>
+constexpr std::int64_t split3Stage2(int c, int l) { return 3 * l + c < 2 * W ? l : W + 3 * l + c - 2 * W; }
+/// Interleaving: element m of output vector v is component (vW + m) % 3 of lane (vW + m) / 3; stage 1 takes
+/// x and y, stage 2 z.
+template <int W>
+constexpr std::int64_t join3Stage1(int v, int m) {
+    const int e = v * W + m;
+    return e % 3 == 0 ? e / 3 : e % 3 == 1 ? W + e / 3 : 0;
+}
+template <int W>
+constexpr std::int64_t join3Stage2(int v, int m) {
+    const int e = v * W + m;
+    return e % 3 == 2 ? W + e / 3 : m;
+}
+template <int W, std::size_t... L>
+[[gnu::always_inline]] inline Vec3L<W> splitRun3(const double* a, std::index_sequence<L...>) noexcept {
+    using Real = typename Lanes<W>::Real;
+    using Mask = typename Lanes<W>::Mask;
+    const Real v0 = loadRun<W>(a);
+    const Real v1 = loadRun<W>(a + W);
+    const Real v2 = loadRun<W>(a + 2 * W);
+    const auto component = [&](auto c) {
+        constexpr Mask first{split3Stage1<W>(decltype(c)::value, L)...};
+        constexpr Mask second{split3Stage2<W>(decltype(c)::value, L)...};
+        return Real(__builtin_shuffle(__builtin_shuffle(v0, v1, first), v2, second));
+    };
+    return {component(std::integral_constant<int, 0>{}), component(std::integral_constant<int, 1>{}),
+            component(std::integral_constant<int, 2>{})};
+}
+template <int W, std::size_t... L>
+[[gnu::always_inline]] inline void joinRun3(double* a, const Vec3L<W>& x, std::index_sequence<L...>) noexcept {
+    using Real = typename Lanes<W>::Real;
+    using Mask = typename Lanes<W>::Mask;
+    const auto out = [&](auto v) {
+        constexpr Mask first{join3Stage1<W>(decltype(v)::value, L)...};
+        constexpr Mask second{join3Stage2<W>(decltype(v)::value, L)...};
+        storeRun<W>(a + decltype(v)::value * W, Real(__builtin_shuffle(__builtin_shuffle(x.x, x.y, first), x.z, second)));
+    };
+    out(std::integral_constant<int, 0>{});
+    out(std::integral_constant<int, 1>{});
+    out(std::integral_constant<int, 2>{});
+}
+/// A run of quaternions in two even/odd splits: (w y)(x z) per half, then w, y and x, z.
+template <int W, std::size_t... L>
+[[gnu::always_inline]] inline QuatL<W> splitRun4(const double* a, std::index_sequence<L...>) noexcept {
+    using Real = typename Lanes<W>::Real;
+    using Mask = typename Lanes<W>::Mask;
+    constexpr Mask even{static_cast<std::int64_t>(2 * L)...};
+    constexpr Mask odd{static_cast<std::int64_t>(2 * L + 1)...};
+    const Real v0 = loadRun<W>(a);
+    const Real v1 = loadRun<W>(a + W);
+    const Real v2 = loadRun<W>(a + 2 * W);
+    const Real v3 = loadRun<W>(a + 3 * W);
+    const Real wy_lo = __builtin_shuffle(v0, v1, even);
+    const Real xz_lo = __builtin_shuffle(v0, v1, odd);
+    const Real wy_hi = __builtin_shuffle(v2, v3, even);
+    const Real xz_hi = __builtin_shuffle(v2, v3, odd);
+    return {__builtin_shuffle(wy_lo, wy_hi, even), __builtin_shuffle(xz_lo, xz_hi, even),
+            __builtin_shuffle(wy_lo, wy_hi, odd), __builtin_shuffle(xz_lo, xz_hi, odd)};
+}
+/// Per-bond fields of a block: contiguous runs for a full block, per-lane gathers for the partial last one.
+template <int W>
+[[gnu::always_inline]] inline typename Lanes<W>::Real bond1(const double* a, const Block<W>& blk) noexcept {
+    return blk.count == W ? loadRun<W>(a + blk.k[0]) : gather1<W>(a, blk.k);
+}
+template <int W>
+[[gnu::always_inline]] inline Vec3L<W> bond3(const double* a, const Block<W>& blk) noexcept {
+    return blk.count == W ? splitRun3<W>(a + 3 * blk.k[0], std::make_index_sequence<W>{}) : gather3<W>(a, blk.k);
+}
+template <int W>
+[[gnu::always_inline]] inline QuatL<W> bond4(const double* a, const Block<W>& blk) noexcept {
+    return blk.count == W ? splitRun4<W>(a + 4 * blk.k[0], std::make_index_sequence<W>{}) : gather4<W>(a, blk.k);
+}
+
 template <int W>
 inline Vec3 laneOf(const Vec3L<W>& v, int l) noexcept {
     return Vec3(v.x[l], v.y[l], v.z[l]);
@@ -193,10 +288,10 @@ template <int W>
     const Vec3L<W> xj = gather3<W>(p.position, blk.j);
     const QuatL<W> qi = gather4<W>(p.orientation, blk.i);
     const QuatL<W> qj = gather4<W>(p.orientation, blk.j);
-    const Vec3L<W> ai = gather3<W>(b.axis_i, blk.k);
-    const Vec3L<W> aj = gather3<W>(b.axis_j, blk.k);
-    const QuatL<W> ref = gather4<W>(b.twist_ref, blk.k);
-    const Real rest_length = gather1<W>(b.rest_length, blk.k);
+    const Vec3L<W> ai = bond3<W>(b.axis_i, blk);
+    const Vec3L<W> aj = bond3<W>(b.axis_j, blk);
+    const QuatL<W> ref = bond4<W>(b.twist_ref, blk);
+    const Real rest_length = bond1<W>(b.rest_length, blk);
 
     KinematicsL<W> k;
     const Vec3L<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
@@ -375,7 +470,7 @@ void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::Beam
     parallelFor(label, (b.n + W - 1) / W, [&](std::size_t m) {
         const Block<W> blk = blockOf<W>(b, m);
         const KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
-        const Real l0 = gather1<W>(b.rest_length, blk.k);
+        const Real l0 = bond1<W>(b.rest_length, blk);
         Real stretch = kin.stretch;
         Mask slipping{};
         Real young, shear, radius;
@@ -384,11 +479,11 @@ void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::Beam
             const DensificationLaw& law = *pass.law;
             const DensificationView& d = *pass.state;
             const Real strain = kin.stretch / l0;
-            const Real slip = gather1<W>(d.slip, blk.k);
-            const Real reference = gather1<W>(d.reference_strain, blk.k);
-            young = gather1<W>(d.young, blk.k);
-            shear = gather1<W>(d.shear, blk.k);
-            radius = gather1<W>(d.section_radius, blk.k);
+            const Real slip = bond1<W>(d.slip, blk);
+            const Real reference = bond1<W>(d.reference_strain, blk);
+            young = bond1<W>(d.young, blk);
+            shear = bond1<W>(d.shear, blk);
+            radius = bond1<W>(d.section_radius, blk);
             Real section_factor = Real{} + 1.0;
             if constexpr (Densify == 2) {
                 if (anyLane(slip != 0.0)) { // rare: a block with a bond densified earlier
@@ -400,9 +495,9 @@ void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::Beam
             slipping = (excess > 0.0) & (slip < law.slider.max_slip);
             stretch = (strain - reference) * l0;
         } else {
-            young = gather1<W>(b.young, blk.k);
-            shear = gather1<W>(b.shear, blk.k);
-            radius = gather1<W>(b.section_radius, blk.k);
+            young = bond1<W>(b.young, blk);
+            shear = bond1<W>(b.shear, blk);
+            radius = bond1<W>(b.section_radius, blk);
         }
         // EulerBernoulliBeam::make
         const Real r2 = radius * radius;
@@ -450,6 +545,19 @@ void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::Beam
             force = {force.x + damper * kin.axis.x, force.y + damper * kin.axis.y, force.z + damper * kin.axis.z};
             torque_i = {torque_i.x + c_rot * spin.x, torque_i.y + c_rot * spin.y, torque_i.z + c_rot * spin.z};
             torque_j = {torque_j.x - c_rot * spin.x, torque_j.y - c_rot * spin.y, torque_j.z - c_rot * spin.z};
+        }
+        // A full block with every bond on the lane path (the common case) is stored in contiguous runs.
+        static_assert(W <= 8, "the broken flags of a block are read as one 64-bit word");
+        std::uint64_t broken_bytes = 0;
+        if (blk.count == W) {
+            __builtin_memcpy(&broken_bytes, b.broken + blk.k[0], W);
+        }
+        if (blk.count == W && broken_bytes == 0 && !anyLane(~kin.in_range) && !anyLane(slipping)) {
+            constexpr auto lanes = std::make_index_sequence<W>{};
+            joinRun3<W>(b.force + 3 * blk.k[0], force, lanes);
+            joinRun3<W>(b.torque_i + 3 * blk.k[0], torque_i, lanes);
+            joinRun3<W>(b.torque_j + 3 * blk.k[0], torque_j, lanes);
+            return;
         }
         for (int l = 0; l < blk.count; ++l) {
             const std::size_t k = blk.k[l];
