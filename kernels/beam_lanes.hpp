@@ -235,6 +235,53 @@ template <int W, std::size_t... L>
     return {__builtin_shuffle(wy_lo, wy_hi, even), __builtin_shuffle(xz_lo, xz_hi, even),
             __builtin_shuffle(wy_lo, wy_hi, odd), __builtin_shuffle(xz_lo, xz_hi, odd)};
 }
+/// Shuffle mask whose lane m is f(m % 4, m / 4): position in a 4-double half, and the half.
+template <int W, std::size_t... L, class F>
+constexpr typename Lanes<W>::Mask quatMask(std::index_sequence<L...>, F f) {
+    return typename Lanes<W>::Mask{static_cast<std::int64_t>(f(static_cast<int>(L) % 4, static_cast<int>(L) / 4))...};
+}
+/// Particle quaternions of a block's W ends (W = 4 or 8): each particle's (w x y z) is one aligned 4-double
+/// row, read whole and transposed with constant shuffles (W = 8: rows l and l + 4 side by side first) instead
+/// of W × 4 scalar loads. W = 2 keeps the per-lane gather (a row is two SSE2 registers there).
+template <int W>
+[[gnu::always_inline]] inline QuatL<W> particleQuats(const double* a, const std::size_t (&idx)[W]) noexcept {
+    if constexpr (W == 4 || W == 8) {
+        using Real = typename Lanes<W>::Real;
+        using Row = typename Lanes<4>::Real;
+        const auto row = [&](int l) {
+            Row r;
+            __builtin_memcpy(&r, a + 4 * idx[l], sizeof r);
+            return r;
+        };
+        Real r0, r1, r2, r3; // W = 4: rows 0-3; W = 8: rows (0|4), (1|5), (2|6), (3|7)
+        if constexpr (W == 4) {
+            r0 = row(0);
+            r1 = row(1);
+            r2 = row(2);
+            r3 = row(3);
+        } else {
+            r0 = __builtin_shufflevector(row(0), row(4), 0, 1, 2, 3, 4, 5, 6, 7);
+            r1 = __builtin_shufflevector(row(1), row(5), 0, 1, 2, 3, 4, 5, 6, 7);
+            r2 = __builtin_shufflevector(row(2), row(6), 0, 1, 2, 3, 4, 5, 6, 7);
+            r3 = __builtin_shufflevector(row(3), row(7), 0, 1, 2, 3, 4, 5, 6, 7);
+        }
+        // Per 4-double half: (w_a w_b y_a y_b) and (x_a x_b z_a z_b) of rows a, b; then w, y, x, z of all four.
+        constexpr auto lanes = std::make_index_sequence<W>{};
+        constexpr auto wy = quatMask<W>(lanes, [](int q, int h) { return (q % 2) * W + 4 * h + (q / 2) * 2; });
+        constexpr auto xz = quatMask<W>(lanes, [](int q, int h) { return (q % 2) * W + 4 * h + (q / 2) * 2 + 1; });
+        constexpr auto lo = quatMask<W>(lanes, [](int q, int h) { return (q / 2) * W + 4 * h + q % 2; });
+        constexpr auto hi = quatMask<W>(lanes, [](int q, int h) { return (q / 2) * W + 4 * h + q % 2 + 2; });
+        const Real wy01 = __builtin_shuffle(r0, r1, wy);
+        const Real xz01 = __builtin_shuffle(r0, r1, xz);
+        const Real wy23 = __builtin_shuffle(r2, r3, wy);
+        const Real xz23 = __builtin_shuffle(r2, r3, xz);
+        return {__builtin_shuffle(wy01, wy23, lo), __builtin_shuffle(xz01, xz23, lo), __builtin_shuffle(wy01, wy23, hi),
+                __builtin_shuffle(xz01, xz23, hi)};
+    } else {
+        return gather4<W>(a, idx);
+    }
+}
+
 /// Per-bond fields of a block: contiguous runs for a full block, per-lane gathers for the partial last one.
 template <int W>
 [[gnu::always_inline]] inline typename Lanes<W>::Real bond1(const double* a, const Block<W>& blk) noexcept {
@@ -286,8 +333,8 @@ template <int W>
     using Real = typename Lanes<W>::Real;
     const Vec3L<W> xi = gather3<W>(p.position, blk.i);
     const Vec3L<W> xj = gather3<W>(p.position, blk.j);
-    const QuatL<W> qi = gather4<W>(p.orientation, blk.i);
-    const QuatL<W> qj = gather4<W>(p.orientation, blk.j);
+    const QuatL<W> qi = particleQuats<W>(p.orientation, blk.i);
+    const QuatL<W> qj = particleQuats<W>(p.orientation, blk.j);
     const Vec3L<W> ai = bond3<W>(b.axis_i, blk);
     const Vec3L<W> aj = bond3<W>(b.axis_j, blk);
     const QuatL<W> ref = bond4<W>(b.twist_ref, blk);
