@@ -88,7 +88,8 @@ void reportCommon(benchmark::State& state, const BenchModel& bm, double dram_byt
     state.counters["particles"] = static_cast<double>(bm.model.particles.size());
     state.counters["bonds"] = static_cast<double>(bm.model.bonds.size());
     state.counters["threads"] = vitrum::threadCount();
-    state.counters["lanes"] = vitrum::beamLanes(); // SIMD lanes of the beam pass (2: SSE2, 4: AVX2, 8: AVX-512F)
+    // SIMD lanes of the beam pass (2: SSE2, 4: AVX2, 8: AVX-512F)
+    state.counters["lanes"] = vitrum::beamLanes();
     if (dram_bytes_per_iteration > 0.0) {
         state.counters["dram_Bps"] = benchmark::Counter(
             dram_bytes_per_iteration * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
@@ -232,8 +233,9 @@ void timeBeamPass(benchmark::State& state, bool densified) {
 void BM_BeamLoadsDensified(benchmark::State& state) { timeBeamPass(state, true); }
 
 /// Design bench: the beam pass in 2 SSE2 lanes vs 4 AVX2 lanes vs 8 AVX-512F lanes (kernels/beam_lanes.hpp;
-/// bit-identical results, BeamLanes.LaneWidthsAreBitIdentical), plain (variant 0) or with the spring-slider and property evolution
-/// (variant 1, every bond on the elastic branch). The production pass takes the widest lanes the CPU has.
+/// bit-identical results, BeamLanes.LaneWidthsAreBitIdentical), plain (variant 0) or with the spring-slider
+/// and property evolution (variant 1, every bond on the elastic branch). The production pass takes the widest
+/// lanes the CPU has.
 void BM_BeamLanes(benchmark::State& state) {
     if (!vitrum::setBeamLanes(static_cast<int>(state.range(1)))) {
         state.SkipWithError("CPU without the instructions of this lane width");
@@ -324,10 +326,10 @@ void BM_StreamTriad(benchmark::State& state) {
 /// chains of 4 doubles, one FMA each), the hardware's double-precision peak on this machine; vitrum uses no
 /// FMA (results would then depend on the machine's ISA), so no kernel can reach it. Variant 2: AVX2 without
 /// FMA (12 chains of 4 doubles, vmulpd + vaddpd), the peak of the beam pass in AVX2 lanes
-/// (kernels/beam_lanes.hpp). Variant 3: AVX-512F without FMA (12 chains of 8 doubles, vmulpd + vaddpd on zmm),
-/// the peak of the beam pass in 8 lanes (on AMD Zen 4 a 512-bit operation takes two 256-bit pipe slots, so
-/// it equals variant 2 there; on Intel cores with two 512-bit FMA units it doubles it). Variants 1-3 are
-/// skipped on a CPU without the instructions.
+/// (kernels/beam_lanes.hpp). Variant 3: AVX-512F without FMA (12 chains of 8 doubles, vmulpd + vaddpd on
+/// zmm), the peak of the beam pass in 8 lanes: twice variant 2 on cores with full-width 512-bit units (the
+/// development machine: 110.8 against 47.7 GFLOP/s per core), equal to it where a 512-bit operation takes two
+/// 256-bit pipe slots (AMD Zen 4). Variants 1-3 are skipped on a CPU without the instructions.
 constexpr int kChains = 24;
 constexpr long kSweeps = 1L << 22;
 
@@ -371,7 +373,8 @@ __attribute__((target("avx512f,prefer-vector-width=512"))) double peakLoopAvx512
 
 void BM_PeakFlops(benchmark::State& state) {
     const int variant = static_cast<int>(state.range(0));
-    if ((variant == 1 && !__builtin_cpu_supports("fma")) || (variant == 2 && !__builtin_cpu_supports("avx2")) ||
+    if ((variant == 1 && !__builtin_cpu_supports("fma")) ||
+        (variant == 2 && !__builtin_cpu_supports("avx2")) ||
         (variant == 3 && !__builtin_cpu_supports("avx512f"))) {
         state.SkipWithError("CPU without the instructions of this variant");
         return;

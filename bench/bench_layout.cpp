@@ -188,10 +188,10 @@ void BM_LayoutParticles(benchmark::State& state) {
 
 // ---- Morton order vs random order ----------------------------------------------------------------------
 
-/// Variant 1: the bench model relabelled by a random permutation of the particles: particle arrays permuted,
-/// each bond's ends relabelled (end roles kept, so the physics of every bond is unchanged), bonds re-sorted by
-/// their new smaller end (then the larger), CSR rebuilt. Variant 2: the identity relabelling, bonds sorted by
-/// their larger end (then the smaller). `old_of_new[new] = old` maps the results back for the check.
+/// Variant 1: the bench model relabelled by a random permutation of the particles: particle arrays
+/// permuted, each bond's ends relabelled (end roles kept, so the physics of every bond is unchanged), bonds
+/// re-sorted by their new smaller end (then the larger), CSR rebuilt. Variant 2: the identity relabelling,
+/// bonds sorted by their larger end (then the smaller). `old_of_new[new] = old` maps the results back.
 struct ShuffledModel {
     vitrum::Particles particles;
     vitrum::Bonds bonds;
@@ -250,7 +250,8 @@ ShuffledModel& shuffledFor(long n, int variant) {
     auto key = [&](std::size_t k) {
         const std::int32_t a = new_of_old[static_cast<std::size_t>(b.i[k])];
         const std::int32_t c = new_of_old[static_cast<std::size_t>(b.j[k])];
-        return variant == 2 ? std::pair(std::max(a, c), std::min(a, c)) : std::pair(std::min(a, c), std::max(a, c));
+        return variant == 2 ? std::pair(std::max(a, c), std::min(a, c))
+                            : std::pair(std::min(a, c), std::max(a, c));
     };
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return key(x) < key(y); });
     vitrum::Bonds& s = sm->bonds;
@@ -277,7 +278,8 @@ void BM_ParticleOrder(benchmark::State& state) {
     const int variant = static_cast<int>(state.range(1));
     vitrum::Particles& p = variant == 0 ? bm.model.particles : shuffledFor(state.range(0), variant).particles;
     vitrum::Bonds& b = variant == 0 ? bm.model.bonds : shuffledFor(state.range(0), variant).bonds;
-    const vitrum::Incidence& inc = variant == 0 ? bm.model.incidence : shuffledFor(state.range(0), variant).incidence;
+    const vitrum::Incidence& inc =
+        variant == 0 ? bm.model.incidence : shuffledFor(state.range(0), variant).incidence;
     const vitrum::BondView bv = b.view();
     const vitrum::ParticleView pv = p.view();
     const vitrum::IncidenceView iv = inc.view();
@@ -305,7 +307,9 @@ void BM_ParticleOrder(benchmark::State& state) {
         vitrum::gatherBondLoads(iv, bv, pv);
         benchmark::ClobberMemory();
     }
-    state.SetLabel(variant == 0 ? "morton (production)" : variant == 1 ? "random permutation" : "morton, bonds by larger end");
+    state.SetLabel(variant == 0   ? "morton (production)"
+                   : variant == 1 ? "random permutation"
+                                  : "morton, bonds by larger end");
     commonCounters(state, pv.n, bv.n, rel);
 }
 

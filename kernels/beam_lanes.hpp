@@ -1,12 +1,14 @@
-// The beam pass W bonds at a time in SIMD lanes (W = 2: SSE2, W = 4: AVX2, W = 8: AVX-512F), kinematics, spring-slider
-// check, beam law (paper eqs 1–4, kernels/beam.hpp), bond-viscous dashpots and the store, all lane-wise.
+// The beam pass W bonds at a time in SIMD lanes (W = 2: SSE2, W = 4: AVX2, W = 8: AVX-512F), kinematics,
+// spring-slider check, beam law (paper eqs 1–4, kernels/beam.hpp), bond-viscous dashpots and the store, all
+// lane-wise.
 //
 // Lanes are GCC vector-extension doubles: every operation is element-wise IEEE (no FMA: the build has none,
-// the AVX2 translation unit enables "avx2" only and the AVX-512 one has fp-contract off), so a lane computes exactly what a scalar evaluation of
-// the same expression in the same order would. The lane expressions below are written in the order of the
-// scalar code they mirror (EulerBernoulliBeam::make and ::evaluate, densify and the dashpots), which makes
-// the W = 2, 4 and 8 passes bit-identical to each other (tested: BeamLanes.LaneWidthsAreBitIdentical), so
-// which one a machine dispatches to never changes a result or a state_sha256.
+// the AVX2 translation unit enables "avx2" only and the AVX-512 one has fp-contract off), so a lane computes
+// exactly what a scalar evaluation of the same expression in the same order would. The lane expressions below
+// are written in the order of the scalar code they mirror (EulerBernoulliBeam::make and ::evaluate, densify
+// and the dashpots), which makes the W = 2, 4 and 8 passes bit-identical to each other (tested:
+// BeamLanes.LaneWidthsAreBitIdentical), so which one a machine dispatches to never changes a result or a
+// state_sha256.
 //
 // A bond leaves the lanes for the scalar path (decided per bond, never by the thread split) when it is
 // broken (zero loads), when one of its angles lies beyond the series range of beam.hpp (full scalar
@@ -51,7 +53,6 @@ struct Lanes<8> {
     using Real = double __attribute__((vector_size(64)));
     using Mask = std::int64_t __attribute__((vector_size(64)));
 };
-
 
 template <int W>
 struct Vec3L {
@@ -170,13 +171,15 @@ template <int W>
 [[gnu::always_inline]] inline void storeRun(double* a, const typename Lanes<W>::Real& v) noexcept {
     __builtin_memcpy(a, &v, sizeof v);
 }
-/// Shuffle masks (index into the concatenation of two W-lane vectors; unused lanes 0). Component c of a run of
-/// 3-vectors is element 3l + c: from the first two vectors where 3l + c < 2W (stage 1), else from the third
-/// (stage 2, which keeps stage 1's lanes).
+/// Shuffle masks (index into the concatenation of two W-lane vectors; unused lanes 0). Component c of a run
+/// of 3-vectors is element 3l + c: from the first two vectors where 3l + c < 2W (stage 1), else from the
+/// third (stage 2, which keeps stage 1's lanes).
 template <int W>
 constexpr std::int64_t split3Stage1(int c, int l) { return 3 * l + c < 2 * W ? 3 * l + c : 0; }
 template <int W>
-constexpr std::int64_t split3Stage2(int c, int l) { return 3 * l + c < 2 * W ? l : W + 3 * l + c - 2 * W; }
+constexpr std::int64_t split3Stage2(int c, int l) {
+    return 3 * l + c < 2 * W ? l : W + 3 * l + c - 2 * W;
+}
 /// Interleaving: element m of output vector v is component (vW + m) % 3 of lane (vW + m) / 3; stage 1 takes
 /// x and y, stage 2 z.
 template <int W>
@@ -205,13 +208,15 @@ template <int W, std::size_t... L>
             component(std::integral_constant<int, 2>{})};
 }
 template <int W, std::size_t... L>
-[[gnu::always_inline]] inline void joinRun3(double* a, const Vec3L<W>& x, std::index_sequence<L...>) noexcept {
+[[gnu::always_inline]] inline void joinRun3(double* a, const Vec3L<W>& x,
+                                            std::index_sequence<L...>) noexcept {
     using Real = typename Lanes<W>::Real;
     using Mask = typename Lanes<W>::Mask;
     const auto out = [&](auto v) {
         constexpr Mask first{join3Stage1<W>(decltype(v)::value, L)...};
         constexpr Mask second{join3Stage2<W>(decltype(v)::value, L)...};
-        storeRun<W>(a + decltype(v)::value * W, Real(__builtin_shuffle(__builtin_shuffle(x.x, x.y, first), x.z, second)));
+        storeRun<W>(a + decltype(v)::value * W,
+                    Real(__builtin_shuffle(__builtin_shuffle(x.x, x.y, first), x.z, second)));
     };
     out(std::integral_constant<int, 0>{});
     out(std::integral_constant<int, 1>{});
@@ -238,7 +243,8 @@ template <int W, std::size_t... L>
 /// Shuffle mask whose lane m is f(m % 4, m / 4): position in a 4-double half, and the half.
 template <int W, std::size_t... L, class F>
 constexpr typename Lanes<W>::Mask quatMask(std::index_sequence<L...>, F f) {
-    return typename Lanes<W>::Mask{static_cast<std::int64_t>(f(static_cast<int>(L) % 4, static_cast<int>(L) / 4))...};
+    return typename Lanes<W>::Mask{
+        static_cast<std::int64_t>(f(static_cast<int>(L) % 4, static_cast<int>(L) / 4))...};
 }
 /// Particle quaternions of a block's W ends (W = 4 or 8): each particle's (w x y z) is one aligned 4-double
 /// row, read whole and transposed with constant shuffles (W = 8: rows l and l + 4 side by side first) instead
@@ -265,18 +271,21 @@ template <int W>
             r2 = __builtin_shufflevector(row(2), row(6), 0, 1, 2, 3, 4, 5, 6, 7);
             r3 = __builtin_shufflevector(row(3), row(7), 0, 1, 2, 3, 4, 5, 6, 7);
         }
-        // Per 4-double half: (w_a w_b y_a y_b) and (x_a x_b z_a z_b) of rows a, b; then w, y, x, z of all four.
+        // Per 4-double half: (w_a w_b y_a y_b) and (x_a x_b z_a z_b) of rows a, b; then w, y, x, z of all
+        // four.
         constexpr auto lanes = std::make_index_sequence<W>{};
-        constexpr auto wy = quatMask<W>(lanes, [](int q, int h) { return (q % 2) * W + 4 * h + (q / 2) * 2; });
-        constexpr auto xz = quatMask<W>(lanes, [](int q, int h) { return (q % 2) * W + 4 * h + (q / 2) * 2 + 1; });
+        constexpr auto wy =
+            quatMask<W>(lanes, [](int q, int h) { return (q % 2) * W + 4 * h + (q / 2) * 2; });
+        constexpr auto xz =
+            quatMask<W>(lanes, [](int q, int h) { return (q % 2) * W + 4 * h + (q / 2) * 2 + 1; });
         constexpr auto lo = quatMask<W>(lanes, [](int q, int h) { return (q / 2) * W + 4 * h + q % 2; });
         constexpr auto hi = quatMask<W>(lanes, [](int q, int h) { return (q / 2) * W + 4 * h + q % 2 + 2; });
         const Real wy01 = __builtin_shuffle(r0, r1, wy);
         const Real xz01 = __builtin_shuffle(r0, r1, xz);
         const Real wy23 = __builtin_shuffle(r2, r3, wy);
         const Real xz23 = __builtin_shuffle(r2, r3, xz);
-        return {__builtin_shuffle(wy01, wy23, lo), __builtin_shuffle(xz01, xz23, lo), __builtin_shuffle(wy01, wy23, hi),
-                __builtin_shuffle(xz01, xz23, hi)};
+        return {__builtin_shuffle(wy01, wy23, lo), __builtin_shuffle(xz01, xz23, lo),
+                __builtin_shuffle(wy01, wy23, hi), __builtin_shuffle(xz01, xz23, hi)};
     } else {
         return gather4<W>(a, idx);
     }
@@ -289,11 +298,13 @@ template <int W>
 }
 template <int W>
 [[gnu::always_inline]] inline Vec3L<W> bond3(const double* a, const Block<W>& blk) noexcept {
-    return blk.count == W ? splitRun3<W>(a + 3 * blk.k[0], std::make_index_sequence<W>{}) : gather3<W>(a, blk.k);
+    return blk.count == W ? splitRun3<W>(a + 3 * blk.k[0], std::make_index_sequence<W>{})
+                          : gather3<W>(a, blk.k);
 }
 template <int W>
 [[gnu::always_inline]] inline QuatL<W> bond4(const double* a, const Block<W>& blk) noexcept {
-    return blk.count == W ? splitRun4<W>(a + 4 * blk.k[0], std::make_index_sequence<W>{}) : gather4<W>(a, blk.k);
+    return blk.count == W ? splitRun4<W>(a + 4 * blk.k[0], std::make_index_sequence<W>{})
+                          : gather4<W>(a, blk.k);
 }
 
 template <int W>

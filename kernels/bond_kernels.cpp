@@ -40,7 +40,8 @@ int beamLanes() {
 }
 
 bool setBeamLanes(int width) {
-    const bool available = width == 0 || width == 2 || (width == 4 && cpuHasAvx2()) || (width == 8 && cpuHasAvx512());
+    const bool available =
+        width == 0 || width == 2 || (width == 4 && cpuHasAvx2()) || (width == 8 && cpuHasAvx512());
     if (!available) {
         return false;
     }

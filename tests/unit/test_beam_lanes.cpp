@@ -1,7 +1,8 @@
-// The beam pass in SIMD lanes (kernels/beam_lanes.hpp): 2 lanes (SSE2), 4 lanes (AVX2) and 8 lanes (AVX-512F),
-// each where the CPU has it, must give bit-identical results for every variant of the pass, so that the lane width a machine
-// dispatches to never changes a run or its state_sha256; and the lane path must agree with the scalar beam
-// law to round-off, including the bonds that leave the lanes (broken, beyond the series range, slipping).
+// The beam pass in SIMD lanes (kernels/beam_lanes.hpp): 2 lanes (SSE2), 4 lanes (AVX2) and 8 lanes
+// (AVX-512F), each where the CPU has it, must give bit-identical results for every variant of the pass, so
+// that the lane width a machine dispatches to never changes a run or its state_sha256; and the lane path must
+// agree with the scalar beam law to round-off, including the bonds that leave the lanes (broken, beyond the
+// series range, slipping).
 #include <algorithm>
 #include <cstring>
 #include <random>
@@ -105,7 +106,9 @@ std::vector<double> runPass(int variant, int lanes, int* slipped = nullptr) {
 }
 
 /// The widest lanes this CPU has.
-int widestLanes() { return __builtin_cpu_supports("avx512f") ? 8 : __builtin_cpu_supports("avx2") ? 4 : 2; }
+int widestLanes() {
+    return __builtin_cpu_supports("avx512f") ? 8 : __builtin_cpu_supports("avx2") ? 4 : 2;
+}
 
 /// The lane widths this CPU can run.
 std::vector<int> availableLanes() {
@@ -156,11 +159,11 @@ TEST(BeamLanes, LaneWidthsAreBitIdentical) {
 }
 
 TEST(BeamLanes, LanePathMatchesTheScalarLawPerBond) {
-    // Every bond's loads from the lane pass against EulerBernoulliBeam::evaluate(beamKinematics(…)) for the same
-    // bond, at every width the CPU has. They differ only in the order of operations inside the quaternion products (lane
-    // kinematics, ≈ 1e-16 relative on the angles; the loads are linear in them): 1e-12 of each bond's load
-    // scale leaves four orders of magnitude for that and catches any wrong term. Bonds beyond the series range
-    // (turned particles) and broken bonds are among them.
+    // Every bond's loads from the lane pass against EulerBernoulliBeam::evaluate(beamKinematics(…)) for the
+    // same bond, at every width the CPU has. They differ only in the order of operations inside the
+    // quaternion products (lane kinematics, ≈ 1e-16 relative on the angles; the loads are linear in them):
+    // 1e-12 of each bond's load scale leaves four orders of magnitude for that and catches any wrong term.
+    // Bonds beyond the series range (turned particles) and broken bonds are among them.
     for (int lanes : availableLanes()) {
         ASSERT_TRUE(setBeamLanes(lanes));
         Model m = laneTestModel(false);
