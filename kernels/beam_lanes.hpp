@@ -222,23 +222,33 @@ template <int W, std::size_t... L>
     out(std::integral_constant<int, 1>{});
     out(std::integral_constant<int, 2>{});
 }
-/// A run of quaternions in two even/odd splits: (w y)(x z) per half, then w, y and x, z.
+/// Four lane vectors holding W quaternions interleaved, to (w, x, y, z) lanes in two stages of constant
+/// shuffles: `first_wy` / `first_xz` pick the (w, y) and the (x, z) elements of each pair of inputs, `low`
+/// and `high` then split those pairs into w, x and y, z (the callers give the masks of their layouts).
+template <int W>
+[[gnu::always_inline]] inline QuatL<W> transposeQuats(typename Lanes<W>::Real r0, typename Lanes<W>::Real r1,
+                                                      typename Lanes<W>::Real r2, typename Lanes<W>::Real r3,
+                                                      typename Lanes<W>::Mask first_wy,
+                                                      typename Lanes<W>::Mask first_xz,
+                                                      typename Lanes<W>::Mask low,
+                                                      typename Lanes<W>::Mask high) noexcept {
+    using Real = typename Lanes<W>::Real;
+    const Real wy01 = __builtin_shuffle(r0, r1, first_wy);
+    const Real xz01 = __builtin_shuffle(r0, r1, first_xz);
+    const Real wy23 = __builtin_shuffle(r2, r3, first_wy);
+    const Real xz23 = __builtin_shuffle(r2, r3, first_xz);
+    return {__builtin_shuffle(wy01, wy23, low), __builtin_shuffle(xz01, xz23, low),
+            __builtin_shuffle(wy01, wy23, high), __builtin_shuffle(xz01, xz23, high)};
+}
+/// A run of W quaternions (4W contiguous doubles): even/odd elements give (w y) and (x z) pairs per half,
+/// their even/odd elements w, y and x, z.
 template <int W, std::size_t... L>
 [[gnu::always_inline]] inline QuatL<W> splitRun4(const double* a, std::index_sequence<L...>) noexcept {
-    using Real = typename Lanes<W>::Real;
     using Mask = typename Lanes<W>::Mask;
     constexpr Mask even{static_cast<std::int64_t>(2 * L)...};
     constexpr Mask odd{static_cast<std::int64_t>(2 * L + 1)...};
-    const Real v0 = loadRun<W>(a);
-    const Real v1 = loadRun<W>(a + W);
-    const Real v2 = loadRun<W>(a + 2 * W);
-    const Real v3 = loadRun<W>(a + 3 * W);
-    const Real wy_lo = __builtin_shuffle(v0, v1, even);
-    const Real xz_lo = __builtin_shuffle(v0, v1, odd);
-    const Real wy_hi = __builtin_shuffle(v2, v3, even);
-    const Real xz_hi = __builtin_shuffle(v2, v3, odd);
-    return {__builtin_shuffle(wy_lo, wy_hi, even), __builtin_shuffle(xz_lo, xz_hi, even),
-            __builtin_shuffle(wy_lo, wy_hi, odd), __builtin_shuffle(xz_lo, xz_hi, odd)};
+    return transposeQuats<W>(loadRun<W>(a), loadRun<W>(a + W), loadRun<W>(a + 2 * W), loadRun<W>(a + 3 * W),
+                             even, odd, even, odd);
 }
 /// Shuffle mask whose lane m is f(m % 4, m / 4): position in a 4-double half, and the half.
 template <int W, std::size_t... L, class F>
@@ -280,12 +290,7 @@ template <int W>
             quatMask<W>(lanes, [](int q, int h) { return (q % 2) * W + 4 * h + (q / 2) * 2 + 1; });
         constexpr auto lo = quatMask<W>(lanes, [](int q, int h) { return (q / 2) * W + 4 * h + q % 2; });
         constexpr auto hi = quatMask<W>(lanes, [](int q, int h) { return (q / 2) * W + 4 * h + q % 2 + 2; });
-        const Real wy01 = __builtin_shuffle(r0, r1, wy);
-        const Real xz01 = __builtin_shuffle(r0, r1, xz);
-        const Real wy23 = __builtin_shuffle(r2, r3, wy);
-        const Real xz23 = __builtin_shuffle(r2, r3, xz);
-        return {__builtin_shuffle(wy01, wy23, lo), __builtin_shuffle(xz01, xz23, lo),
-                __builtin_shuffle(wy01, wy23, hi), __builtin_shuffle(xz01, xz23, hi)};
+        return transposeQuats<W>(r0, r1, r2, r3, wy, xz, lo, hi);
     } else {
         return gather4<W>(a, idx);
     }
