@@ -74,6 +74,9 @@ constexpr double kDensifyBytes = 32;
 constexpr double kGatherTouchedPerBond = 8 + 48 + 48;
 constexpr double kGatherDramPerBond = 8 + 72;
 constexpr double kGatherPerParticle = 4 + 48;
+// Fused with the beam pass (computeBondForces), the gather reads the loads of a tile while they are in cache:
+// only the entries (8 per bond) come from memory.
+constexpr double kGatherFusedDramPerBond = 8;
 
 // halfKick per particle: flags (4), mass and inertia (16), force and torque (48), velocity and angular
 // velocity read and written (2×48) = 164 B. drift per particle: position, velocity, angular velocity read
@@ -243,6 +246,50 @@ void BM_BeamLanes(benchmark::State& state) {
     }
     timeBeamPass(state, state.range(2) != 0);
     vitrum::setBeamLanes(0);
+}
+
+/// Design bench: the bond forces of a step as two passes (variant 0: computeBeamLoads, then gatherBondLoads)
+/// or as one fused sweep (variant 1: computeBondForces, the production path; bit-identical, test
+/// BondForces.FusedSweepIsBitIdenticalToTheSeparatePasses), plain or with the spring-slider and property
+/// evolution (`densified`). The DRAM model of the fused sweep drops the gather's re-read of the loads (they
+/// are read back from cache, tile by tile): kGatherFusedDramPerBond.
+void BM_BondForces(benchmark::State& state) {
+    BenchModel& bm = modelFor(state.range(0));
+    const bool fused = state.range(1) != 0;
+    const bool densified = state.range(2) != 0;
+    if (densified) {
+        enableDensification(bm);
+    }
+    const vitrum::IncidenceView inc = bm.model.incidence.view();
+    const vitrum::BondView b = bm.model.bonds.view();
+    const vitrum::ParticleView p = bm.model.particles.view();
+    const vitrum::DensificationLaw law = vitrum::densificationLaw(bm.scene);
+    const vitrum::DensificationView d = bm.model.bonds.densificationView();
+    vitrum::BondEffects effects;
+    if (densified) {
+        effects.law = &law;
+        effects.state = &d;
+    }
+    for (auto _ : state) {
+        if (fused) {
+            vitrum::computeBondForces(inc, b, p, effects);
+        } else {
+            if (densified) {
+                vitrum::computeBeamLoads(b, p, law, d);
+            } else {
+                vitrum::computeBeamLoads(b, p);
+            }
+            vitrum::gatherBondLoads(inc, b, p);
+        }
+        benchmark::ClobberMemory();
+    }
+    const double nb = static_cast<double>(b.n);
+    const double np = static_cast<double>(p.n);
+    state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
+    state.SetLabel(fused ? "fused" : "separate");
+    reportCommon(state, bm,
+                 (kBeamStreamBytes + (densified ? kDensifyBytes : 0.0)) * nb + kBeamParticleBytes * np +
+                     (fused ? kGatherFusedDramPerBond : kGatherDramPerBond) * nb + kGatherPerParticle * np);
 }
 
 /// The full elastic + densification step: composeStep with effects {elasticity, densification}.
@@ -647,6 +694,11 @@ BENCHMARK(BM_FullStepDensified)->Apply(particleCounts);
 BENCHMARK(BM_BeamLanes)
     ->ArgNames({"n", "lanes", "densified"})
     ->ArgsProduct({{1000, 10000, 100000, 1000000}, {2, 4, 8}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+BENCHMARK(BM_BondForces)
+    ->ArgNames({"n", "fused", "densified"})
+    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(BM_GatherVsAtomicScatter)

@@ -21,10 +21,12 @@
 // with the baseline unit's (a machine without AVX2 or AVX-512 would then execute their code).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <utility>
+#include <vector>
 
 #include "kernels/beam.hpp"
 #include "kernels/bond_kernels.hpp"
@@ -526,11 +528,10 @@ template <int W>
 /// Bonds in fixed blocks (W m … W m + W − 1): kinematics, slider check, beam law, dashpots in lanes; a bond
 /// that is broken, out of the series range or slipping takes the scalar path (see the file header).
 template <int W, bool Viscous, int Densify>
-void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
+inline void beamBlock(const BondView& b, const ParticleView& p, const detail::BeamPass& pass, std::size_t m) {
     using Real = typename Lanes<W>::Real;
     using Mask = typename Lanes<W>::Mask;
-    const char* label = Densify ? "bonds.beam_loads+densification" : "bonds.beam_loads";
-    parallelFor(label, (b.n + W - 1) / W, [&](std::size_t m) {
+    {
         const Block<W> blk = blockOf<W>(b, m);
         const KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
         const Real l0 = bond1<W>(b.rest_length, blk);
@@ -639,7 +640,110 @@ void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::Beam
                 storeLane(b.torque_j, k, torque_j, l);
             }
         }
+    }
+}
+
+/// Particle i's force and torque: the sum of its bonds' loads in CSR order (gatherBondLoads, and the fused
+/// sweep below, both call this, so they add in the same order). Overwrites.
+inline void gatherParticle(const IncidenceView& inc, const BondView& b, const ParticleView& p, std::size_t i) {
+    double f[3] = {0.0, 0.0, 0.0};
+    double t[3] = {0.0, 0.0, 0.0};
+    for (std::int32_t e = inc.offset[i]; e < inc.offset[i + 1]; ++e) {
+        const std::int32_t code = inc.entry[e];
+        const std::size_t k = static_cast<std::size_t>(code >> 1);
+        const double* bt = (code & 1) ? b.torque_j : b.torque_i;
+        const double sign = (code & 1) ? -1.0 : 1.0;
+        for (int c = 0; c < 3; ++c) {
+            f[c] += sign * b.force[3 * k + c];
+            t[c] += bt[3 * k + c];
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        p.force[3 * i + c] = f[c];
+        p.torque[3 * i + c] = t[c];
+    }
+}
+
+/// Bonds per tile of the fused sweep: a multiple of every lane width; its loads (72 B a bond, 147 kB) and its
+/// end particles stay in the L2 cache until the gather that follows reads them (512 and 8 192 measured the
+/// same at 10⁶ particles, bench/README.md).
+inline constexpr std::size_t kBondTile = 2048;
+
+/// The beam pass and the gather in one sweep (computeBondForces). Each range of tiles (one per thread) runs
+/// its tiles in bond order; after each tile it gathers, in particle order, every particle of the range whose
+/// bonds are then all computed (ready[p] ≤ end of the tile). A particle of the range with a bond below the
+/// range (computed by another thread) is deferred and gathered after all ranges are done. Particles belong to
+/// the range whose bonds (k_begin, k_end] hold ready[p], so each is gathered once; each sum is gatherParticle's,
+/// in CSR order, and the loads are the block pass's: the result is bit-identical to the separate passes and
+/// independent of the thread count and of the tile size.
+template <int W, bool Viscous, int Densify>
+void beamGatherLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
+    const IncidenceView& inc = *pass.incidence;
+    const char* label = Densify ? "bonds.beam_loads+densification+gather" : "bonds.beam_loads+gather";
+    const std::size_t tiles = (b.n + kBondTile - 1) / kBondTile;
+    const std::size_t parts = rangeParts(tiles, 16);
+    std::vector<std::vector<std::int32_t>> deferred(parts);
+    const std::int32_t* ready_end = inc.ready + inc.n;
+    // Particle q of range r: gathered now, or deferred if a bond of it lies below the range (its first entry
+    // is its smallest bond).
+    auto visit = [&](std::size_t r, std::size_t k_begin, std::size_t q) {
+        if (inc.offset[q] < inc.offset[q + 1] && static_cast<std::size_t>(inc.entry[inc.offset[q]] >> 1) < k_begin) {
+            deferred[r].push_back(static_cast<std::int32_t>(q));
+        } else {
+            gatherParticle(inc, b, p, q);
+        }
+    };
+    parallelRanges(label, tiles, parts, [&](std::size_t r, std::size_t t_begin, std::size_t t_end) {
+        const std::size_t k_begin = std::min(t_begin * kBondTile, b.n);
+        const std::size_t k_end = std::min(t_end * kBondTile, b.n);
+        std::size_t q = r == 0 ? 0
+                               : static_cast<std::size_t>(std::upper_bound(inc.ready, ready_end,
+                                                                           static_cast<std::int32_t>(k_begin)) -
+                                                          inc.ready);
+        const std::size_t q_end =
+            r + 1 == parts ? inc.n
+                           : static_cast<std::size_t>(
+                                 std::upper_bound(inc.ready, ready_end, static_cast<std::int32_t>(k_end)) - inc.ready);
+        for (std::size_t t = t_begin; t < t_end; ++t) {
+            const std::size_t k0 = t * kBondTile;
+            const std::size_t k1 = std::min(k0 + kBondTile, b.n);
+            for (std::size_t m = k0 / W; m < (k1 + W - 1) / W; ++m) {
+                beamBlock<W, Viscous, Densify>(b, p, pass, m);
+            }
+            if (pass.weight != nullptr) { // weightBondLoads on the tile
+                for (std::size_t k = k0; k < k1; ++k) {
+                    const double w = pass.weight[k];
+                    for (std::size_t c = 3 * k; c < 3 * k + 3; ++c) {
+                        b.force[c] *= w;
+                        b.torque_i[c] *= w;
+                        b.torque_j[c] *= w;
+                    }
+                }
+            }
+            for (; q < q_end && static_cast<std::size_t>(inc.ready[q]) <= k1; ++q) {
+                visit(r, k_begin, q);
+            }
+        }
+        for (; q < q_end; ++q) { // only without bonds at all (no tiles): every particle gets zero loads
+            visit(r, k_begin, q);
+        }
     });
+    std::vector<std::int32_t> rest;
+    for (const std::vector<std::int32_t>& d : deferred) {
+        rest.insert(rest.end(), d.begin(), d.end());
+    }
+    parallelFor("bonds.gather_deferred", rest.size(),
+                [&](std::size_t e) { gatherParticle(inc, b, p, static_cast<std::size_t>(rest[e])); });
+}
+
+template <int W, bool Viscous, int Densify>
+void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
+    if (pass.incidence != nullptr) {
+        beamGatherLanes<W, Viscous, Densify>(b, p, pass);
+        return;
+    }
+    const char* label = Densify ? "bonds.beam_loads+densification" : "bonds.beam_loads";
+    parallelFor(label, (b.n + W - 1) / W, [&](std::size_t m) { beamBlock<W, Viscous, Densify>(b, p, pass, m); });
 }
 
 /// The pass of `pass` in W lanes (one instantiation per variant).

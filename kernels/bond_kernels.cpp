@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <stdexcept>
 
 #include "kernels/beam.hpp"
 #include "kernels/beam_lanes.hpp"
@@ -79,24 +80,20 @@ double beamStrainEnergy(const BondView& b, const ParticleView& p, const Densific
 }
 
 void gatherBondLoads(const IncidenceView& inc, const BondView& b, const ParticleView& p) {
-    parallelFor("bonds.gather", inc.n, [&](std::size_t i) {
-        double f[3] = {0.0, 0.0, 0.0};
-        double t[3] = {0.0, 0.0, 0.0};
-        for (std::int32_t e = inc.offset[i]; e < inc.offset[i + 1]; ++e) {
-            const std::int32_t code = inc.entry[e];
-            const std::size_t k = static_cast<std::size_t>(code >> 1);
-            const double* bt = (code & 1) ? b.torque_j : b.torque_i;
-            const double sign = (code & 1) ? -1.0 : 1.0;
-            for (int c = 0; c < 3; ++c) {
-                f[c] += sign * b.force[3 * k + c];
-                t[c] += bt[3 * k + c];
-            }
-        }
-        for (int c = 0; c < 3; ++c) {
-            p.force[3 * i + c] = f[c];
-            p.torque[3 * i + c] = t[c];
-        }
-    });
+    parallelFor("bonds.gather", inc.n, [&](std::size_t i) { gatherParticle(inc, b, p, i); });
+}
+
+void computeBondForces(const IncidenceView& inc, const BondView& b, const ParticleView& p, const BondEffects& e) {
+    if (inc.ready == nullptr) {
+        throw std::invalid_argument("computeBondForces: the incidence has no ready[] (build it with Incidence::build)");
+    }
+    if ((e.law == nullptr) != (e.state == nullptr)) {
+        throw std::invalid_argument("computeBondForces: the densification law and state go together");
+    }
+    const int densify = e.law == nullptr ? 0 : (e.law->evolve ? 2 : 1);
+    detail::BeamPass pass{e.viscous != nullptr, densify, e.viscous != nullptr ? e.viscous->ratio : 0.0,
+                          e.law, e.state, &inc, e.weight};
+    beamPass(b, p, pass);
 }
 
 double beamStrainEnergy(const BondView& b, const ParticleView& p) {

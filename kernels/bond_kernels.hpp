@@ -41,6 +41,23 @@ bool setBeamLanes(int width);
 /// Sets each particle's force and torque to the sum of its bonds' loads (CSR order). Overwrites.
 void gatherBondLoads(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles);
 
+/// The effects a bond pass includes: each absent one costs nothing.
+struct BondEffects {
+    const BondViscousDamping* viscous = nullptr; ///< bond-viscous dashpots
+    const DensificationLaw* law = nullptr;       ///< the spring-slider (with `state`)
+    const DensificationView* state = nullptr;
+    const double* weight = nullptr; ///< per-bond factor on the loads before the gather (coupling: α_d at mid-bond)
+};
+
+/// The bond forces of a step in one sweep: the beam loads (computeBeamLoads with the effects), the weights,
+/// and the gather (gatherBondLoads), fused tile by tile so that each particle is gathered while its bonds'
+/// loads are still in cache (kernels/beam_lanes.hpp, beamGatherLanes). Bit-identical to the separate passes;
+/// needs the incidence's `ready` (Incidence::build). The design alternative of the fused-vs-separate bench
+/// (BM_BondForces): it measured 0–19 % slower than the separate passes (bench/README.md, "Fused beam pass and
+/// gather"), so composeStep keeps the separate passes.
+void computeBondForces(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles,
+                       const BondEffects& effects);
+
 /// Total strain energy stored in the unbroken beams, nJ (deterministic reduction).
 double beamStrainEnergy(const BondView& bonds, const ParticleView& particles);
 /// Same, with the densified bonds' reference strains (elastic energy only; the slider's dissipation is not in it).
@@ -54,6 +71,8 @@ struct BeamPass {
     double damping_ratio;
     const DensificationLaw* law;
     const DensificationView* state;
+    const IncidenceView* incidence = nullptr; ///< set: fused with the gather (computeBondForces)
+    const double* weight = nullptr;           ///< fused only: per-bond load factor
 };
 /// The pass in AVX2 lanes (bond_kernels_avx2.cpp); call only where the CPU has AVX2.
 void beamPassAvx2(const BondView& bonds, const ParticleView& particles, const BeamPass& pass);

@@ -86,6 +86,35 @@ void parallelFor(const char* label, std::size_t n, Body&& body) {
     }
 }
 
+/// Runs body(r, begin, end) once for each of `parts` contiguous ranges [n r/parts, n (r+1)/parts) of [0, n):
+/// one range per thread (static schedule), or inside `concurrently` one task per range. For passes whose
+/// index order matters within a thread (a sweep that reuses what it just wrote); the body must write only
+/// data owned by its range, and the result must not depend on `parts` (rangeParts picks it).
+template <class Body>
+void parallelRanges(const char* label, std::size_t n, std::size_t parts, Body&& body) {
+    ScopedTimer timer(label);
+    const long long count = static_cast<long long>(parts);
+    auto run = [&](long long r) {
+        const auto part = static_cast<std::size_t>(r);
+        body(part, n * part / parts, n * (part + 1) / parts);
+    };
+    if (inParallelRegion()) {
+#pragma omp taskloop grainsize(1)
+        for (long long r = 0; r < count; ++r) {
+            run(r);
+        }
+        return;
+    }
+#pragma omp parallel for schedule(static, 1)
+    for (long long r = 0; r < count; ++r) {
+        run(r);
+    }
+}
+
+/// The ranges parallelRanges should cut n indices into: one per thread (at most n, at least 1); inside
+/// `concurrently`, one per `task_grain` indices, so that the team's idle threads can share them.
+std::size_t rangeParts(std::size_t n, std::size_t task_grain);
+
 /// Runs `task` as one OpenMP task concurrently with `body` (run by the encountering thread), in one parallel
 /// region of all threads; the parallelFor/parallelReduce loops inside either become task loops that the idle
 /// threads pick up. Returns when both are done. `task_seconds` receives the wall time spent inside `task`

@@ -107,11 +107,19 @@ Incidence Incidence::build(std::size_t n_particles, const Bonds& bonds) {
         inc.entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.i[k])]++)] = code;
         inc.entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.j[k])]++)] = code + 1;
     }
+    inc.ready.resize(n_particles);
+    std::int32_t ready = 0;
+    for (std::size_t p = 0; p < n_particles; ++p) { // a particle's last entry is its largest bond
+        if (inc.offset[p + 1] > inc.offset[p]) {
+            ready = std::max(ready, (inc.entry[static_cast<std::size_t>(inc.offset[p + 1] - 1)] >> 1) + 1);
+        }
+        inc.ready[p] = ready;
+    }
     return inc;
 }
 
 IncidenceView Incidence::view() const {
-    return IncidenceView{offset.size() - 1, offset.data(), entry.data()};
+    return IncidenceView{offset.size() - 1, offset.data(), entry.data(), ready.data()};
 }
 
 Bonds bondNeighbours(const Particles& p, double tolerance, const MaterialParams& material) {
