@@ -472,6 +472,12 @@ int runScene(const RunOptions& options) {
     } else {
         step.computeForces(ctx);
     }
+    // Every large array is sized now: place them on 2 MiB pages (kernels/pages.hpp; changes no value).
+    placeModelArrays(model);
+    if (verbose) {
+        log << "  pages      " << hugePageBytes() / (1 << 20)
+            << " MiB of the process on 2 MiB pages (arrays of 4 MiB or more are advised to use them)\n";
+    }
     // The watchdog checks every step, on the measures of the fused final kick (ctx.kinetic). The last good
     // state is a copy of the stores taken at a recorded step that passed it, at most every 100 steps.
     StateSnapshot last_good;

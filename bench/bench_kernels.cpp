@@ -28,11 +28,13 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "kernels/beam.hpp"
 #include "kernels/bond_kernels.hpp"
 #include "kernels/integrate.hpp"
+#include "kernels/pages.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
 #include "kernels/views.hpp"
@@ -148,6 +150,16 @@ void BM_Gather(benchmark::State& state) {
     state.SetBytesProcessed(
         asItems((kGatherTouchedPerBond * nb + kGatherPerParticle * np) * static_cast<double>(state.iterations())));
     reportCommon(state, bm, kGatherDramPerBond * nb + kGatherPerParticle * np);
+    // How far apart a bond's two ends sit in the particle order (j − i): the gather reads a bond's loads at
+    // particle i and again at particle j, so this is the reuse distance of its loads, in particles.
+    std::vector<std::int32_t> gap(b.n);
+    for (std::size_t k = 0; k < b.n; ++k) {
+        gap[k] = b.j[k] - b.i[k];
+    }
+    std::sort(gap.begin(), gap.end());
+    for (const int q : {50, 90, 95, 99}) {
+        state.counters["end_gap_p" + std::to_string(q)] = gap.empty() ? 0.0 : gap[gap.size() * q / 100];
+    }
 }
 
 void BM_Integrate(benchmark::State& state) {
@@ -201,6 +213,8 @@ void enableDensification(BenchModel& bm) {
     d.eq6_b1 = Vec3(0.19265411354365053, -0.8921007573410387, 1.485284568135907);
     if (bm.model.bonds.slip.size() != bm.model.bonds.size()) {
         bm.model.bonds.enableDensification();
+        vitrum::placeOnPages(bm.model.bonds.slip, vitrum::PagePolicy::Huge); // as placeModelArrays would
+        vitrum::placeOnPages(bm.model.bonds.reference_strain, vitrum::PagePolicy::Huge);
     }
 }
 
@@ -290,6 +304,30 @@ void BM_BondForces(benchmark::State& state) {
     reportCommon(state, bm,
                  (kBeamStreamBytes + (densified ? kDensifyBytes : 0.0)) * nb + kBeamParticleBytes * np +
                      (fused ? kGatherFusedDramPerBond : kGatherDramPerBond) * nb + kGatherPerParticle * np);
+}
+
+/// Design bench: the full elastic step (BM_FullStep) with the model's arrays on 4 KiB pages (huge = 0,
+/// advised MADV_NOHUGEPAGE) or on 2 MiB pages (huge = 1, MADV_HUGEPAGE, production: placeModelArrays).
+/// Counter huge_MiB: the process's memory on huge pages while it ran (the system may grant fewer than asked:
+/// transparent huge pages off, or no free 2 MiB blocks). The model goes back to huge pages afterwards.
+void BM_Pages(benchmark::State& state) {
+    BenchModel& bm = modelFor(state.range(0));
+    const bool huge = state.range(1) != 0;
+    vitrum::placeModelArrays(bm.model, huge ? vitrum::PagePolicy::Huge : vitrum::PagePolicy::Small);
+    vitrum::Step step = vitrum::composeStep(bm.scene, bm.model);
+    vitrum::StepContext ctx{bm.model, bm.dt, 0.0};
+    step.computeForces(ctx);
+    for (auto _ : state) {
+        ctx.time += ctx.dt;
+        step.advance(ctx);
+        benchmark::ClobberMemory();
+    }
+    state.counters["huge_MiB"] = static_cast<double>(vitrum::hugePageBytes()) / (1 << 20);
+    vitrum::placeModelArrays(bm.model, vitrum::PagePolicy::Huge);
+    const double nb = static_cast<double>(bm.model.bonds.size());
+    state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
+    state.SetLabel(huge ? "2 MiB pages" : "4 KiB pages");
+    reportCommon(state, bm, 0.0);
 }
 
 /// The full elastic + densification step: composeStep with effects {elasticity, densification}.
@@ -699,6 +737,11 @@ BENCHMARK(BM_BeamLanes)
 BENCHMARK(BM_BondForces)
     ->ArgNames({"n", "fused", "densified"})
     ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+BENCHMARK(BM_Pages)
+    ->ArgNames({"n", "huge"})
+    ->ArgsProduct({{10000, 100000, 1000000}, {0, 1}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(BM_GatherVsAtomicScatter)

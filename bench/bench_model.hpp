@@ -70,6 +70,7 @@ inline std::unique_ptr<BenchModel> makeModel(long n) {
     // Loads consistent with the perturbed state, so the first timed gather/kick sees real forces.
     vitrum::computeBeamLoads(bm->model.bonds.view(), p.view());
     vitrum::gatherBondLoads(bm->model.incidence.view(), bm->model.bonds.view(), p.view());
+    vitrum::placeModelArrays(bm->model); // as a run places them (app/run_command.cpp); BM_Pages compares
     return bm;
 }
 

@@ -1,5 +1,6 @@
 // HDF5 checkpoint (state.h5, DESIGN.md §6): everything that evolves or defines a run, so that `--restart`
-// continues bit-identically. The fields of each store are described once, in the forEachField tables below;
+// continues bit-identically. The fields of each store are described once, in the stores' forEachField tables (solver/particles.hpp,
+// solver/bonds.hpp, and the contact history's below);
 // writing and reading both loop over them (no per-array I/O code), so a new field needs one line here.
 //
 // File layout (format version kCheckpointFormatVersion), all values in vitrum's internal units
@@ -41,51 +42,8 @@ struct CheckpointMeta {
     std::vector<double> cnem_state; ///< effect coupling: CNEM displacement, velocity, force (3N each); empty otherwise
 };
 
-/// The checkpoint's field table of the particle store: calls `field(name, member, components)` for every
-/// field, in a fixed order. Works on const and non-const stores. checkpoint.cpp checks at compile time that
-/// the table covers every member of Particles.
-template <class P, class F>
-requires std::same_as<std::remove_const_t<P>, Particles>
-constexpr void forEachField(P& p, F&& field) {
-    field("position", p.position, 3);
-    field("initial_position", p.initial_position, 3);
-    field("velocity", p.velocity, 3);
-    field("orientation", p.orientation, 4);
-    field("angular_velocity", p.angular_velocity, 3);
-    field("force", p.force, 3);
-    field("torque", p.torque, 3);
-    field("radius", p.radius, 1);
-    field("mass", p.mass, 1);
-    field("inertia", p.inertia, 1);
-    field("flags", p.flags, 1);
-    field("stress", p.stress, 6);             // effect fracture (empty without it)
-    field("released", p.released, 1);         // effect fracture
-    field("release_step", p.release_step, 1); // effect fracture
-    field("broken_bonds", p.broken_bonds, 1); // effect fracture
-}
-
-/// The checkpoint's field table of the bond store (see the particle one).
-template <class B, class F>
-requires std::same_as<std::remove_const_t<B>, Bonds>
-constexpr void forEachField(B& b, F&& field) {
-    field("i", b.i, 1);
-    field("j", b.j, 1);
-    field("rest_length", b.rest_length, 1);
-    field("section_radius", b.section_radius, 1);
-    field("young", b.young, 1);
-    field("shear", b.shear, 1);
-    field("axis_i", b.axis_i, 3);
-    field("axis_j", b.axis_j, 3);
-    field("twist_ref", b.twist_ref, 4);
-    field("broken", b.broken, 1);
-    field("force", b.force, 3);
-    field("torque_i", b.torque_i, 3);
-    field("torque_j", b.torque_j, 3);
-    field("slip", b.slip, 1);                         // effect densification (empty without it)
-    field("reference_strain", b.reference_strain, 1); // effect densification (empty without it)
-}
-
-/// The checkpoint's field table of the contact history (effect contact; see the particle one).
+/// The checkpoint's field table of the contact history (effect contact; see the particle store's,
+/// forEachField(Particles&) in solver/particles.hpp).
 template <class C, class F>
 requires std::same_as<std::remove_const_t<C>, ContactHistory>
 constexpr void forEachField(C& c, F&& field) {

@@ -1,7 +1,9 @@
 // Owning SoA store of the cohesive beams and the particle → bond CSR incidence.
 #pragma once
 
+#include <concepts>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "kernels/densification.hpp"
@@ -63,5 +65,26 @@ struct Incidence {
 /// Bonds every pair whose centre distance is below (1 + tolerance)(R_a + R_b), found with a cell list.
 /// Deterministic: pairs come out sorted by (i, j).
 Bonds bondNeighbours(const Particles& particles, double tolerance, const MaterialParams& material);
+
+/// The field table of the bond store (see forEachField(Particles&) in solver/particles.hpp).
+template <class B, class F>
+requires std::same_as<std::remove_const_t<B>, Bonds>
+constexpr void forEachField(B& b, F&& field) {
+    field("i", b.i, 1);
+    field("j", b.j, 1);
+    field("rest_length", b.rest_length, 1);
+    field("section_radius", b.section_radius, 1);
+    field("young", b.young, 1);
+    field("shear", b.shear, 1);
+    field("axis_i", b.axis_i, 3);
+    field("axis_j", b.axis_j, 3);
+    field("twist_ref", b.twist_ref, 4);
+    field("broken", b.broken, 1);
+    field("force", b.force, 3);
+    field("torque_i", b.torque_i, 3);
+    field("torque_j", b.torque_j, 3);
+    field("slip", b.slip, 1);                         // effect densification (empty without it)
+    field("reference_strain", b.reference_strain, 1); // effect densification (empty without it)
+}
 
 } // namespace vitrum

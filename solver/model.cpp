@@ -149,4 +149,13 @@ void initialiseBoundaries(Model& model) {
     }
 }
 
+void placeModelArrays(Model& model, PagePolicy policy) {
+    auto place = [policy](const char*, auto& values, int) { placeOnPages(values, policy); };
+    forEachField(model.particles, place);
+    forEachField(model.bonds, place);
+    placeOnPages(model.incidence.offset, policy);
+    placeOnPages(model.incidence.entry, policy);
+    placeOnPages(model.incidence.ready, policy);
+}
+
 } // namespace vitrum

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/pages.hpp"
 #include "solver/bonds.hpp"
 #include "solver/contacts.hpp"
 #include "solver/fracture.hpp"
@@ -77,6 +78,12 @@ Model buildModel(const Scene& scene, double length_factor, const BondedSample& s
 
 /// buildModel on buildSample(scene).
 Model buildModel(const Scene& scene, double length_factor);
+
+/// Places the large arrays of the particle and bond stores and of the incidence on pages of `policy`
+/// (kernels/pages.hpp: 2 MiB pages cut the TLB misses of the bond pass and the gather). Call once the model
+/// is complete: after composeStep (which sizes the effects' per-bond and per-particle state) and after a
+/// restart has read its checkpoint. Changes no value, so no result depends on it.
+void placeModelArrays(Model& model, PagePolicy policy = PagePolicy::Huge);
 
 /// Flags kKinematic on the members of every boundary condition and sets their initial velocities (zero for
 /// fixed and displacement conditions, the prescribed one for velocity conditions) and angular velocities (0).

@@ -1,7 +1,9 @@
 // Owning SoA store of the discrete elements (spheres). Kernels never see this type, only ParticleView.
 #pragma once
 
+#include <concepts>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "kernels/fracture.hpp"
@@ -41,5 +43,29 @@ struct Particles {
     /// The damage state; requires enableFracture().
     DamageView damageView();
 };
+
+/// The field table of the particle store: calls `field(name, member, components)` for every field, in a
+/// fixed order. Works on const and non-const stores. The checkpoint writes and reads through it
+/// (io/checkpoint.cpp checks at compile time that it covers every member), and placeModelArrays places
+/// the arrays through it.
+template <class P, class F>
+requires std::same_as<std::remove_const_t<P>, Particles>
+constexpr void forEachField(P& p, F&& field) {
+    field("position", p.position, 3);
+    field("initial_position", p.initial_position, 3);
+    field("velocity", p.velocity, 3);
+    field("orientation", p.orientation, 4);
+    field("angular_velocity", p.angular_velocity, 3);
+    field("force", p.force, 3);
+    field("torque", p.torque, 3);
+    field("radius", p.radius, 1);
+    field("mass", p.mass, 1);
+    field("inertia", p.inertia, 1);
+    field("flags", p.flags, 1);
+    field("stress", p.stress, 6);             // effect fracture (empty without it)
+    field("released", p.released, 1);         // effect fracture
+    field("release_step", p.release_step, 1); // effect fracture
+    field("broken_bonds", p.broken_bonds, 1); // effect fracture
+}
 
 } // namespace vitrum

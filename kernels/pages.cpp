@@ -1,0 +1,44 @@
+#include "kernels/pages.hpp"
+
+#include <sys/mman.h>
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+namespace vitrum {
+
+bool advisePages(void* data, std::size_t bytes, PagePolicy policy) {
+#if defined(MADV_HUGEPAGE) && defined(MADV_NOHUGEPAGE)
+    constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
+    const auto begin = reinterpret_cast<std::uintptr_t>(data);
+    const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
+    const std::uintptr_t last = (begin + bytes) & ~(kHuge - 1);
+    if (data == nullptr || last <= first) {
+        return false;
+    }
+    const int advice = policy == PagePolicy::Huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE;
+    return madvise(reinterpret_cast<void*>(first), last - first, advice) == 0;
+#else
+    (void)data;
+    (void)bytes;
+    (void)policy;
+    return false;
+#endif
+}
+
+std::size_t hugePageBytes() {
+    std::ifstream in("/proc/self/smaps_rollup");
+    std::string key;
+    while (in >> key) {
+        if (key == "AnonHugePages:") {
+            std::size_t kib = 0;
+            in >> kib;
+            return kib * 1024;
+        }
+        std::getline(in, key);
+    }
+    return 0;
+}
+
+} // namespace vitrum
