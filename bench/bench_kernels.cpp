@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_model.hpp"
 #include "kernels/beam.hpp"
 #include "kernels/bond_kernels.hpp"
 #include "kernels/integrate.hpp"
@@ -41,7 +42,6 @@
 #include "solver/model.hpp"
 #include "solver/scene.hpp"
 #include "solver/step.hpp"
-#include "bench_model.hpp"
 
 namespace {
 
@@ -309,9 +309,12 @@ void BM_BondForces(benchmark::State& state) {
 /// Design bench: the full elastic step (BM_FullStep) with the model's arrays on 4 KiB pages (huge = 0,
 /// advised MADV_NOHUGEPAGE) or on 2 MiB pages (huge = 1, MADV_HUGEPAGE, production: placeModelArrays).
 /// Counter huge_MiB: the process's memory on huge pages while it ran (the system may grant fewer than asked:
-/// transparent huge pages off, or no free 2 MiB blocks). The model goes back to huge pages afterwards.
+/// transparent huge pages off, or no free 2 MiB blocks). Its own model, built without placement (the shared
+/// one's huge pages, once freed, would back the 4 KiB variant's buffers): run one variant per process
+/// (--benchmark_filter) for a clean comparison.
 void BM_Pages(benchmark::State& state) {
-    BenchModel& bm = modelFor(state.range(0));
+    const auto own = vitrum_bench::makeModel(state.range(0), false);
+    BenchModel& bm = *own;
     const bool huge = state.range(1) != 0;
     vitrum::placeModelArrays(bm.model, huge ? vitrum::PagePolicy::Huge : vitrum::PagePolicy::Small);
     vitrum::Step step = vitrum::composeStep(bm.scene, bm.model);
@@ -323,7 +326,6 @@ void BM_Pages(benchmark::State& state) {
         benchmark::ClobberMemory();
     }
     state.counters["huge_MiB"] = static_cast<double>(vitrum::hugePageBytes()) / (1 << 20);
-    vitrum::placeModelArrays(bm.model, vitrum::PagePolicy::Huge);
     const double nb = static_cast<double>(bm.model.bonds.size());
     state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
     state.SetLabel(huge ? "2 MiB pages" : "4 KiB pages");

@@ -31,7 +31,7 @@ struct BenchModel {
 
 /// FCC lattice of about n particles in a 10 µm cube with the default glass micro-parameters, perturbed
 /// (see the file header). Deterministic: fixed seed.
-inline std::unique_ptr<BenchModel> makeModel(long n) {
+inline std::unique_ptr<BenchModel> makeModel(long n, bool place = true) {
     auto bm = std::make_unique<BenchModel>();
     bm->scene.name = "bench";
     bm->scene.sample.lattice = "fcc";
@@ -70,7 +70,9 @@ inline std::unique_ptr<BenchModel> makeModel(long n) {
     // Loads consistent with the perturbed state, so the first timed gather/kick sees real forces.
     vitrum::computeBeamLoads(bm->model.bonds.view(), p.view());
     vitrum::gatherBondLoads(bm->model.incidence.view(), bm->model.bonds.view(), p.view());
-    vitrum::placeModelArrays(bm->model); // as a run places them (app/run_command.cpp); BM_Pages compares
+    if (place) {
+        vitrum::placeModelArrays(bm->model); // as a run places them (app/run_command.cpp); BM_Pages compares
+    }
     return bm;
 }
 

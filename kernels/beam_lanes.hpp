@@ -645,7 +645,8 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
 
 /// Particle i's force and torque: the sum of its bonds' loads in CSR order (gatherBondLoads, and the fused
 /// sweep below, both call this, so they add in the same order). Overwrites.
-inline void gatherParticle(const IncidenceView& inc, const BondView& b, const ParticleView& p, std::size_t i) {
+inline void gatherParticle(const IncidenceView& inc, const BondView& b, const ParticleView& p,
+                           std::size_t i) {
     double f[3] = {0.0, 0.0, 0.0};
     double t[3] = {0.0, 0.0, 0.0};
     for (std::int32_t e = inc.offset[i]; e < inc.offset[i + 1]; ++e) {
@@ -673,9 +674,9 @@ inline constexpr std::size_t kBondTile = 2048;
 /// its tiles in bond order; after each tile it gathers, in particle order, every particle of the range whose
 /// bonds are then all computed (ready[p] ≤ end of the tile). A particle of the range with a bond below the
 /// range (computed by another thread) is deferred and gathered after all ranges are done. Particles belong to
-/// the range whose bonds (k_begin, k_end] hold ready[p], so each is gathered once; each sum is gatherParticle's,
-/// in CSR order, and the loads are the block pass's: the result is bit-identical to the separate passes and
-/// independent of the thread count and of the tile size.
+/// the range whose bonds (k_begin, k_end] hold ready[p], so each is gathered once; each sum is
+/// gatherParticle's, in CSR order, and the loads are the block pass's: the result is bit-identical to the
+/// separate passes and independent of the thread count and of the tile size.
 template <int W, bool Viscous, int Densify>
 void beamGatherLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
     const IncidenceView& inc = *pass.incidence;
@@ -687,7 +688,8 @@ void beamGatherLanes(const BondView& b, const ParticleView& p, const detail::Bea
     // Particle q of range r: gathered now, or deferred if a bond of it lies below the range (its first entry
     // is its smallest bond).
     auto visit = [&](std::size_t r, std::size_t k_begin, std::size_t q) {
-        if (inc.offset[q] < inc.offset[q + 1] && static_cast<std::size_t>(inc.entry[inc.offset[q]] >> 1) < k_begin) {
+        if (inc.offset[q] < inc.offset[q + 1] &&
+            static_cast<std::size_t>(inc.entry[inc.offset[q]] >> 1) < k_begin) {
             deferred[r].push_back(static_cast<std::int32_t>(q));
         } else {
             gatherParticle(inc, b, p, q);
@@ -696,14 +698,16 @@ void beamGatherLanes(const BondView& b, const ParticleView& p, const detail::Bea
     parallelRanges(label, tiles, parts, [&](std::size_t r, std::size_t t_begin, std::size_t t_end) {
         const std::size_t k_begin = std::min(t_begin * kBondTile, b.n);
         const std::size_t k_end = std::min(t_end * kBondTile, b.n);
-        std::size_t q = r == 0 ? 0
-                               : static_cast<std::size_t>(std::upper_bound(inc.ready, ready_end,
-                                                                           static_cast<std::int32_t>(k_begin)) -
-                                                          inc.ready);
+        std::size_t q =
+            r == 0
+                ? 0
+                : static_cast<std::size_t>(
+                      std::upper_bound(inc.ready, ready_end, static_cast<std::int32_t>(k_begin)) - inc.ready);
         const std::size_t q_end =
-            r + 1 == parts ? inc.n
-                           : static_cast<std::size_t>(
-                                 std::upper_bound(inc.ready, ready_end, static_cast<std::int32_t>(k_end)) - inc.ready);
+            r + 1 == parts
+                ? inc.n
+                : static_cast<std::size_t>(
+                      std::upper_bound(inc.ready, ready_end, static_cast<std::int32_t>(k_end)) - inc.ready);
         for (std::size_t t = t_begin; t < t_end; ++t) {
             const std::size_t k0 = t * kBondTile;
             const std::size_t k1 = std::min(k0 + kBondTile, b.n);
@@ -743,7 +747,8 @@ void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::Beam
         return;
     }
     const char* label = Densify ? "bonds.beam_loads+densification" : "bonds.beam_loads";
-    parallelFor(label, (b.n + W - 1) / W, [&](std::size_t m) { beamBlock<W, Viscous, Densify>(b, p, pass, m); });
+    parallelFor(label, (b.n + W - 1) / W,
+                [&](std::size_t m) { beamBlock<W, Viscous, Densify>(b, p, pass, m); });
 }
 
 /// The pass of `pass` in W lanes (one instantiation per variant).

@@ -83,16 +83,23 @@ void gatherBondLoads(const IncidenceView& inc, const BondView& b, const Particle
     parallelFor("bonds.gather", inc.n, [&](std::size_t i) { gatherParticle(inc, b, p, i); });
 }
 
-void computeBondForces(const IncidenceView& inc, const BondView& b, const ParticleView& p, const BondEffects& e) {
+void computeBondForces(const IncidenceView& inc, const BondView& b, const ParticleView& p,
+                       const BondEffects& e) {
     if (inc.ready == nullptr) {
-        throw std::invalid_argument("computeBondForces: the incidence has no ready[] (build it with Incidence::build)");
+        throw std::invalid_argument(
+            "computeBondForces: the incidence has no ready[] (build it with Incidence::build)");
     }
     if ((e.law == nullptr) != (e.state == nullptr)) {
         throw std::invalid_argument("computeBondForces: the densification law and state go together");
     }
     const int densify = e.law == nullptr ? 0 : (e.law->evolve ? 2 : 1);
-    detail::BeamPass pass{e.viscous != nullptr, densify, e.viscous != nullptr ? e.viscous->ratio : 0.0,
-                          e.law, e.state, &inc, e.weight};
+    detail::BeamPass pass{e.viscous != nullptr,
+                          densify,
+                          e.viscous != nullptr ? e.viscous->ratio : 0.0,
+                          e.law,
+                          e.state,
+                          &inc,
+                          e.weight};
     beamPass(b, p, pass);
 }
 

@@ -46,15 +46,16 @@ struct BondEffects {
     const BondViscousDamping* viscous = nullptr; ///< bond-viscous dashpots
     const DensificationLaw* law = nullptr;       ///< the spring-slider (with `state`)
     const DensificationView* state = nullptr;
-    const double* weight = nullptr; ///< per-bond factor on the loads before the gather (coupling: α_d at mid-bond)
+    const double* weight =
+        nullptr; ///< per-bond factor on the loads before the gather (coupling: α_d at mid-bond)
 };
 
 /// The bond forces of a step in one sweep: the beam loads (computeBeamLoads with the effects), the weights,
 /// and the gather (gatherBondLoads), fused tile by tile so that each particle is gathered while its bonds'
 /// loads are still in cache (kernels/beam_lanes.hpp, beamGatherLanes). Bit-identical to the separate passes;
 /// needs the incidence's `ready` (Incidence::build). The design alternative of the fused-vs-separate bench
-/// (BM_BondForces): it measured 0–19 % slower than the separate passes (bench/README.md, "Fused beam pass and
-/// gather"), so composeStep keeps the separate passes.
+/// (BM_BondForces): from 3 % faster (10⁶ particles) to 19 % slower (10⁵) than the separate passes
+/// (bench/README.md, "Session 20 on an Intel host"), so composeStep keeps the separate passes.
 void computeBondForces(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles,
                        const BondEffects& effects);
 

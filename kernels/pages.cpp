@@ -8,8 +8,10 @@
 
 namespace vitrum {
 
-bool advisePages(void* data, std::size_t bytes, PagePolicy policy) {
-#if defined(MADV_HUGEPAGE) && defined(MADV_NOHUGEPAGE)
+namespace {
+
+/// madvise on the whole 2 MiB pages inside [data, data + bytes); false if there are none or it fails.
+bool adviseWholeHugePages(void* data, std::size_t bytes, int advice) {
     constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
     const auto begin = reinterpret_cast<std::uintptr_t>(data);
     const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
@@ -17,8 +19,28 @@ bool advisePages(void* data, std::size_t bytes, PagePolicy policy) {
     if (data == nullptr || last <= first) {
         return false;
     }
-    const int advice = policy == PagePolicy::Huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE;
     return madvise(reinterpret_cast<void*>(first), last - first, advice) == 0;
+}
+
+} // namespace
+
+bool advisePages(void* data, std::size_t bytes, PagePolicy policy) {
+#if defined(MADV_HUGEPAGE) && defined(MADV_NOHUGEPAGE)
+    return adviseWholeHugePages(data, bytes, policy == PagePolicy::Huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE);
+#else
+    (void)data;
+    (void)bytes;
+    (void)policy;
+    return false;
+#endif
+}
+
+bool collapsePages(void* data, std::size_t bytes, PagePolicy policy) {
+#if defined(__linux__)
+    // MADV_COLLAPSE of Linux ≥ 6.1 (asm-generic/mman-common.h; glibc 2.36's <sys/mman.h> does not name it).
+    // Older kernels refuse it with EINVAL: the pages then stay as they are.
+    constexpr int kMadvCollapse = 25;
+    return policy == PagePolicy::Huge && adviseWholeHugePages(data, bytes, kMadvCollapse);
 #else
     (void)data;
     (void)bytes;

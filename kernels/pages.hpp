@@ -3,7 +3,8 @@
 // touched. The bond pass reads the far end's particle state and the gather the far bonds' loads all over
 // arrays of 10⁸ bytes; with 4 KiB pages most of those reads also miss the TLB. placeOnPages moves an array
 // into a freshly advised buffer: same values, bit for bit; only where the bytes live changes, so no result
-// depends on it. Design bench BM_Pages (bench/README.md, "Huge pages").
+// depends on it. Design bench BM_Pages (bench/README.md,
+// "Session 20 on an Intel host").
 #pragma once
 
 #include <cstddef>
@@ -23,6 +24,11 @@ inline constexpr std::size_t kHugePageMinBytes = std::size_t{4} << 20;
 /// no such advice (the placement then stays the system's; nothing else changes).
 bool advisePages(void* data, std::size_t bytes, PagePolicy policy);
 
+/// With PagePolicy::Huge, collapses the already touched whole 2 MiB pages inside [data, data + bytes) into
+/// huge pages now (MADV_COLLAPSE, Linux ≥ 6.1): a buffer that malloc recycles from its heap was touched
+/// before it could be advised. Returns false where that is refused or unsupported (nothing else changes).
+bool collapsePages(void* data, std::size_t bytes, PagePolicy policy);
+
 /// Anonymous memory of this process on huge pages, bytes (AnonHugePages of /proc/self/smaps_rollup; 0 where
 /// unavailable). For the benchmarks' counters and the run log.
 std::size_t hugePageBytes();
@@ -38,6 +44,7 @@ void placeOnPages(std::vector<T>& v, PagePolicy policy) {
     fresh.reserve(v.size());
     advisePages(fresh.data(), v.size() * sizeof(T), policy);
     fresh.assign(v.begin(), v.end());
+    collapsePages(fresh.data(), v.size() * sizeof(T), policy);
     v.swap(fresh);
 }
 

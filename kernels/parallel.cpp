@@ -73,8 +73,8 @@ bool inParallelRegion() { return omp_in_parallel() != 0; }
 int threadCount() { return omp_get_max_threads(); }
 
 std::size_t rangeParts(std::size_t n, std::size_t task_grain) {
-    const std::size_t parts =
-        inParallelRegion() ? (n + task_grain - 1) / task_grain : static_cast<std::size_t>(omp_get_max_threads());
+    const std::size_t parts = inParallelRegion() ? (n + task_grain - 1) / task_grain
+                                                 : static_cast<std::size_t>(omp_get_max_threads());
     return std::max<std::size_t>(1, std::min(parts, n));
 }
 

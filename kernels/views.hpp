@@ -77,9 +77,9 @@ struct IncidenceView {
     std::size_t n = 0;
     const std::int32_t* offset = nullptr; ///< n + 1
     const std::int32_t* entry = nullptr;
-    /// Optional (bonds only, Incidence::build): ready[p] = 1 + the largest bond index incident to any particle
-    /// q ≤ p (0 if none), non-decreasing in p. Particle p's bond loads are all computed once the bonds below
-    /// ready[p] are; the fused beam pass and gather (computeBondForces) walk the particles by it.
+    /// Optional (bonds only, Incidence::build): ready[p] = 1 + the largest bond index incident to any
+    /// particle q ≤ p (0 if none), non-decreasing in p. Particle p's bond loads are all computed once the
+    /// bonds below ready[p] are; the fused beam pass and gather (computeBondForces) walk the particles by it.
     const std::int32_t* ready = nullptr;
 };
 

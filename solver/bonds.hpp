@@ -51,7 +51,8 @@ struct Bonds {
 struct Incidence {
     std::vector<std::int32_t> offset; ///< n_particles + 1
     std::vector<std::int32_t> entry;  ///< 2·bond + end
-    std::vector<std::int32_t> ready;  ///< n_particles: prefix maximum of (largest incident bond + 1), IncidenceView
+    std::vector<std::int32_t>
+        ready; ///< n_particles: prefix maximum of (largest incident bond + 1), IncidenceView
 
     /// Builds the CSR incidence of `bonds` over `n_particles` particles (entries of a particle in bond order).
     static Incidence build(std::size_t n_particles, const Bonds& bonds);

@@ -1,7 +1,8 @@
 // The fused bond sweep (computeBondForces: beam loads, weights and gather tile by tile) against the separate
-// passes (computeBeamLoads, weightBondLoads, gatherBondLoads): the same bits for every variant, lane width and
-// thread count, including the particles whose bonds two threads compute (gathered after both). The bond loads
-// are set to NaN before each fused sweep, so a particle gathered before all its bonds were computed would show.
+// passes (computeBeamLoads, weightBondLoads, gatherBondLoads): the same bits for every variant, lane width
+// and thread count, including the particles whose bonds two threads compute (gathered after both). The bond
+// loads are set to NaN before each fused sweep, so a particle gathered before all its bonds were computed
+// would show.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -32,7 +33,8 @@ Model sweepModel(bool densify) {
     testing::agitate(m, 5, 1e-3);
     std::mt19937_64 rng(11);
     std::normal_distribution<double> g(0.0, 2e-3);
-    for (double& x : m.particles.position) x += g(rng);
+    for (double& x : m.particles.position)
+        x += g(rng);
     for (std::size_t q = 0; q < m.particles.size(); ++q) {
         const Quat turn(Eigen::AngleAxisd(10.0 * g(rng), Vec3(1.0 + g(rng), 0.5, -0.2).normalized()));
         storeQuat(m.particles.orientation.data(), q, turn * loadQuat(m.particles.orientation.data(), q));
@@ -115,9 +117,10 @@ std::vector<double> runSweep(Model& m, const Sweep& s) {
     setBeamLanes(0);
     setThreadCount(threads_before);
     std::vector<double> out(m.particles.force);
-    for (const std::vector<double>* a : {&m.particles.torque, &m.bonds.force, &m.bonds.torque_i, &m.bonds.torque_j,
-                                         &m.bonds.slip, &m.bonds.reference_strain, &m.bonds.young,
-                                         &m.bonds.section_radius, &m.bonds.axis_i, &m.bonds.twist_ref}) {
+    for (const std::vector<double>* a :
+         {&m.particles.torque, &m.bonds.force, &m.bonds.torque_i, &m.bonds.torque_j, &m.bonds.slip,
+          &m.bonds.reference_strain, &m.bonds.young, &m.bonds.section_radius, &m.bonds.axis_i,
+          &m.bonds.twist_ref}) {
         out.insert(out.end(), a->begin(), a->end());
     }
     return out;
@@ -206,10 +209,12 @@ TEST(BondForces, ParticlesWithoutBondsGetZeroAndAMissingReadyIsRefused) {
     m.bonds = none;
     m.incidence = Incidence::build(m.particles.size(), m.bonds);
     computeBondForces(m.incidence.view(), m.bonds.view(), m.particles.view(), {});
-    EXPECT_TRUE(std::all_of(m.particles.force.begin(), m.particles.force.end(), [](double f) { return f == 0.0; }));
+    EXPECT_TRUE(
+        std::all_of(m.particles.force.begin(), m.particles.force.end(), [](double f) { return f == 0.0; }));
     IncidenceView without_ready = m.incidence.view();
     without_ready.ready = nullptr;
-    EXPECT_THROW(computeBondForces(without_ready, m.bonds.view(), m.particles.view(), {}), std::invalid_argument);
+    EXPECT_THROW(computeBondForces(without_ready, m.bonds.view(), m.particles.view(), {}),
+                 std::invalid_argument);
 }
 
 } // namespace

@@ -18,7 +18,8 @@ TEST(Pages, PlacingMovesALargeArrayAndKeepsEveryBit) {
     std::vector<double> v(kHugePageMinBytes / sizeof(double) + 12345);
     std::mt19937_64 rng(3);
     std::normal_distribution<double> g;
-    for (double& x : v) x = g(rng);
+    for (double& x : v)
+        x = g(rng);
     const std::vector<double> before = v;
     for (const PagePolicy policy : {PagePolicy::Huge, PagePolicy::Small, PagePolicy::Huge}) {
         const double* old_data = v.data();
@@ -35,7 +36,8 @@ TEST(Pages, SmallArraysStayWhereTheyAre) {
     placeOnPages(v, PagePolicy::Huge);
     EXPECT_EQ(v.data(), data);
     EXPECT_FALSE(advisePages(nullptr, 1 << 22, PagePolicy::Huge));
-    EXPECT_FALSE(advisePages(v.data(), v.size() * sizeof(std::int32_t), PagePolicy::Huge)); // no whole 2 MiB page
+    EXPECT_FALSE(
+        advisePages(v.data(), v.size() * sizeof(std::int32_t), PagePolicy::Huge)); // no whole 2 MiB page
 }
 
 /// 40 000 particles: several arrays above kHugePageMinBytes (the bonds' 3-vectors, ≈ 5.6 MB each).
