@@ -321,30 +321,15 @@ void gatherAndKick(const vitrum::IncidenceView& inc, const vitrum::BondView& b, 
                    double dt) {
     const double h = 0.5 * dt;
     vitrum::parallelFor("bench.gather_kick", inc.n, [&](std::size_t i) {
-        double f[3] = {0.0, 0.0, 0.0};
-        double t[3] = {0.0, 0.0, 0.0};
-        for (std::int32_t e = inc.offset[i]; e < inc.offset[i + 1]; ++e) {
-            const std::int32_t code = inc.entry[e];
-            const std::size_t k = static_cast<std::size_t>(code >> 1);
-            const double* bt = (code & 1) ? b.torque_j : b.torque_i;
-            const double sign = (code & 1) ? -1.0 : 1.0;
-            for (int c = 0; c < 3; ++c) {
-                f[c] += sign * b.force[3 * k + c];
-                t[c] += bt[3 * k + c];
-            }
-        }
-        for (int c = 0; c < 3; ++c) {
-            p.force[3 * i + c] = f[c];
-            p.torque[3 * i + c] = t[c];
-        }
+        vitrum::gatherParticle(inc, b, p, i);
         if (p.flags[i] & vitrum::kKinematic) {
             return;
         }
         const double a = h / p.mass[i];
         const double w = h / p.inertia[i];
         for (int c = 0; c < 3; ++c) {
-            p.velocity[3 * i + c] += a * f[c];
-            p.angular_velocity[3 * i + c] += w * t[c];
+            p.velocity[3 * i + c] += a * p.force[3 * i + c];
+            p.angular_velocity[3 * i + c] += w * p.torque[3 * i + c];
         }
     });
 }

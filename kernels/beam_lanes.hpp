@@ -643,28 +643,6 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
     }
 }
 
-/// Particle i's force and torque: the sum of its bonds' loads in CSR order (gatherBondLoads, and the fused
-/// sweep below, both call this, so they add in the same order). Overwrites.
-inline void gatherParticle(const IncidenceView& inc, const BondView& b, const ParticleView& p,
-                           std::size_t i) {
-    double f[3] = {0.0, 0.0, 0.0};
-    double t[3] = {0.0, 0.0, 0.0};
-    for (std::int32_t e = inc.offset[i]; e < inc.offset[i + 1]; ++e) {
-        const std::int32_t code = inc.entry[e];
-        const std::size_t k = static_cast<std::size_t>(code >> 1);
-        const double* bt = (code & 1) ? b.torque_j : b.torque_i;
-        const double sign = (code & 1) ? -1.0 : 1.0;
-        for (int c = 0; c < 3; ++c) {
-            f[c] += sign * b.force[3 * k + c];
-            t[c] += bt[3 * k + c];
-        }
-    }
-    for (int c = 0; c < 3; ++c) {
-        p.force[3 * i + c] = f[c];
-        p.torque[3 * i + c] = t[c];
-    }
-}
-
 /// Bonds per tile of the fused sweep: a multiple of every lane width; its loads (72 B a bond, 147 kB) and its
 /// end particles stay in the L2 cache until the gather that follows reads them (512 and 8 192 measured the
 /// same at 10⁶ particles, bench/README.md).

@@ -38,6 +38,29 @@ int beamLanes();
 /// width. For benchmarks and tests.
 bool setBeamLanes(int width);
 
+/// Particle i's force and torque: the sum of its bonds' loads in CSR order, overwriting. The body of
+/// gatherBondLoads, also called by the fused sweep (computeBondForces) and the gather + kick design bench, so
+/// all add in the same order.
+inline void gatherParticle(const IncidenceView& inc, const BondView& b, const ParticleView& p,
+                           std::size_t i) {
+    double f[3] = {0.0, 0.0, 0.0};
+    double t[3] = {0.0, 0.0, 0.0};
+    for (std::int32_t e = inc.offset[i]; e < inc.offset[i + 1]; ++e) {
+        const std::int32_t code = inc.entry[e];
+        const std::size_t k = static_cast<std::size_t>(code >> 1);
+        const double* bt = (code & 1) ? b.torque_j : b.torque_i;
+        const double sign = (code & 1) ? -1.0 : 1.0;
+        for (int c = 0; c < 3; ++c) {
+            f[c] += sign * b.force[3 * k + c];
+            t[c] += bt[3 * k + c];
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        p.force[3 * i + c] = f[c];
+        p.torque[3 * i + c] = t[c];
+    }
+}
+
 /// Sets each particle's force and torque to the sum of its bonds' loads (CSR order). Overwrites.
 void gatherBondLoads(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles);
 

@@ -10,7 +10,18 @@ namespace vitrum {
 
 namespace {
 
-/// madvise on the whole 2 MiB pages inside [data, data + bytes); false if there are none or it fails.
+#if defined(__linux__)
+constexpr int kHugeAdvice = MADV_HUGEPAGE;
+constexpr int kSmallAdvice = MADV_NOHUGEPAGE;
+// MADV_COLLAPSE of Linux ≥ 6.1 (asm-generic/mman-common.h; glibc 2.36's <sys/mman.h> does not name it).
+// Older kernels refuse it with EINVAL: the pages then stay as they are.
+constexpr int kCollapseAdvice = 25;
+#else
+constexpr int kHugeAdvice = 0, kSmallAdvice = 0, kCollapseAdvice = 0;
+#endif
+
+/// madvise on the whole 2 MiB pages inside [data, data + bytes); false if there are none, if it fails, or
+/// off Linux.
 bool adviseWholeHugePages(void* data, std::size_t bytes, int advice) {
     constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
     const auto begin = reinterpret_cast<std::uintptr_t>(data);
@@ -19,34 +30,22 @@ bool adviseWholeHugePages(void* data, std::size_t bytes, int advice) {
     if (data == nullptr || last <= first) {
         return false;
     }
+#if defined(__linux__)
     return madvise(reinterpret_cast<void*>(first), last - first, advice) == 0;
+#else
+    (void)advice;
+    return false;
+#endif
 }
 
 } // namespace
 
 bool advisePages(void* data, std::size_t bytes, PagePolicy policy) {
-#if defined(MADV_HUGEPAGE) && defined(MADV_NOHUGEPAGE)
-    return adviseWholeHugePages(data, bytes, policy == PagePolicy::Huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE);
-#else
-    (void)data;
-    (void)bytes;
-    (void)policy;
-    return false;
-#endif
+    return adviseWholeHugePages(data, bytes, policy == PagePolicy::Huge ? kHugeAdvice : kSmallAdvice);
 }
 
 bool collapsePages(void* data, std::size_t bytes, PagePolicy policy) {
-#if defined(__linux__)
-    // MADV_COLLAPSE of Linux ≥ 6.1 (asm-generic/mman-common.h; glibc 2.36's <sys/mman.h> does not name it).
-    // Older kernels refuse it with EINVAL: the pages then stay as they are.
-    constexpr int kMadvCollapse = 25;
-    return policy == PagePolicy::Huge && adviseWholeHugePages(data, bytes, kMadvCollapse);
-#else
-    (void)data;
-    (void)bytes;
-    (void)policy;
-    return false;
-#endif
+    return policy == PagePolicy::Huge && adviseWholeHugePages(data, bytes, kCollapseAdvice);
 }
 
 std::size_t hugePageBytes() {

@@ -117,4 +117,53 @@ std::vector<std::vector<double>> readCsvColumns(const std::filesystem::path& pat
     return columns;
 }
 
+std::vector<int> availableLanes() {
+    std::vector<int> widths{2};
+    if (__builtin_cpu_supports("avx2")) {
+        widths.push_back(4);
+    }
+    if (__builtin_cpu_supports("avx512f")) {
+        widths.push_back(8);
+    }
+    return widths;
+}
+
+/// An FCC sphere of 6 000 particles (its bond count is a multiple of 4 by symmetry; the passes below take all
+/// but its last bond, `passView`, an odd count, so the last block of the 4- and 8-lane passes is partial),
+/// every beam stretched, bent and twisted; every 97th particle turned by 0.3–0.6 rad (its bonds leave the
+/// series range), every 41st bond broken; with densification, bonds already slipped and bonds that slip now.
+Model strainedBondModel(bool densify) {
+    Model m = fccModel("sphere", 3.0, 6000);
+    agitate(m, 7, 1e-3);
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> g(0.0, 2e-3);
+    for (double& x : m.particles.position) x += g(rng);
+    for (std::size_t q = 0; q < m.particles.size(); ++q) {
+        const double angle = q % 97 == 0 ? 0.3 + 0.15 * static_cast<double>(q % 3) : 10.0 * g(rng);
+        const Quat turn(Eigen::AngleAxisd(angle, Vec3(1.0 + g(rng), 0.5, -0.2).normalized()));
+        storeQuat(m.particles.orientation.data(), q, turn * loadQuat(m.particles.orientation.data(), q));
+    }
+    for (std::size_t k = 0; k < m.bonds.size(); k += 41) {
+        m.bonds.broken[k] = 1;
+    }
+    if (densify) {
+        m.bonds.enableDensification();
+        for (std::size_t k = 3; k < m.bonds.size(); k += 13) {
+            m.bonds.slip[k] = 0.01 + 0.001 * static_cast<double>(k % 7); // densified earlier
+            m.bonds.reference_strain[k] = -m.bonds.slip[k];
+        }
+    }
+    return m;
+}
+
+DensificationLaw lowYieldSlider(bool evolve, double young) {
+    DensificationLaw law;
+    // A yield stress low enough that the agitated lattice (axial strains up to ≈ 1 %) slips in a good share of
+    // its bonds in compression, and a hardening slider, so both slider branches run.
+    law.slider = SpringSlider::make(0.5, 98.82, 0.067, young);
+    law.evolve = evolve;
+    law.evolution = silicaEvolution();
+    return law;
+}
+
 } // namespace vitrum::testing

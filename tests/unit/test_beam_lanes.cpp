@@ -20,45 +20,8 @@
 namespace vitrum {
 namespace {
 
-/// An FCC sphere of 6 000 particles (its bond count is a multiple of 4 by symmetry; the passes below take all
-/// but its last bond, `passView`, an odd count, so the last block of the 4- and 8-lane passes is partial),
-/// every beam stretched, bent and twisted; every 97th particle turned by 0.3–0.6 rad (its bonds leave the
-/// series range), every 41st bond broken; with densification, bonds already slipped and bonds that slip now.
-Model laneTestModel(bool densify) {
-    Model m = testing::fccModel("sphere", 3.0, 6000);
-    testing::agitate(m, 7, 1e-3);
-    std::mt19937_64 rng(3);
-    std::normal_distribution<double> g(0.0, 2e-3);
-    for (double& x : m.particles.position) x += g(rng);
-    for (std::size_t q = 0; q < m.particles.size(); ++q) {
-        const double angle = q % 97 == 0 ? 0.3 + 0.15 * static_cast<double>(q % 3) : 10.0 * g(rng);
-        const Quat turn(Eigen::AngleAxisd(angle, Vec3(1.0 + g(rng), 0.5, -0.2).normalized()));
-        storeQuat(m.particles.orientation.data(), q, turn * loadQuat(m.particles.orientation.data(), q));
-    }
-    for (std::size_t k = 0; k < m.bonds.size(); k += 41) {
-        m.bonds.broken[k] = 1;
-    }
-    if (densify) {
-        m.bonds.enableDensification();
-        for (std::size_t k = 3; k < m.bonds.size(); k += 13) {
-            m.bonds.slip[k] = 0.01 + 0.001 * static_cast<double>(k % 7); // densified earlier
-            m.bonds.reference_strain[k] = -m.bonds.slip[k];
-        }
-    }
-    return m;
-}
-
-DensificationLaw laneTestLaw(bool evolve, double young) {
-    DensificationLaw law;
-    // A yield stress low enough that the agitated lattice (axial strains up to ≈ 1 %) slips in a good share of
-    // its bonds in compression, and a hardening slider, so both slider branches run.
-    law.slider = SpringSlider::make(0.5, 98.82, 0.067, young);
-    law.evolve = evolve;
-    law.evolution = testing::silicaEvolution();
-    return law;
-}
-
-/// The bond view the passes take: every bond but the last (a partial last block for 4 lanes; see above).
+/// The bond view the passes take: every bond but the last. testing::strainedBondModel's bond count is a multiple
+/// of 4, so this count is odd and the last block of the 4- and 8-lane passes is partial.
 BondView passView(Model& m) {
     BondView b = m.bonds.view();
     b.n -= 1 + m.bonds.size() % 4;
@@ -84,8 +47,8 @@ std::vector<double> passOutputs(const Model& m) {
 /// Variant: 0 plain, 1 bond-viscous, 2 slider, 3 slider + evolution, 4 viscous + slider + evolution.
 std::vector<double> runPass(int variant, int lanes, int* slipped = nullptr) {
     EXPECT_TRUE(setBeamLanes(lanes));
-    Model m = laneTestModel(variant >= 2);
-    const DensificationLaw law = laneTestLaw(variant >= 3, m.bonds.young.empty() ? 0.0 : m.bonds.young[0]);
+    Model m = testing::strainedBondModel(variant >= 2);
+    const DensificationLaw law = testing::lowYieldSlider(variant >= 3, m.bonds.young.empty() ? 0.0 : m.bonds.young[0]);
     const std::vector<double> slip_before = m.bonds.slip;
     switch (variant) {
     case 0: computeBeamLoads(passView(m), m.particles.view()); break;
@@ -110,18 +73,6 @@ int widestLanes() {
     return __builtin_cpu_supports("avx512f") ? 8 : __builtin_cpu_supports("avx2") ? 4 : 2;
 }
 
-/// The lane widths this CPU can run.
-std::vector<int> availableLanes() {
-    std::vector<int> widths{2};
-    if (__builtin_cpu_supports("avx2")) {
-        widths.push_back(4);
-    }
-    if (__builtin_cpu_supports("avx512f")) {
-        widths.push_back(8);
-    }
-    return widths;
-}
-
 TEST(BeamLanes, TheAutomaticChoiceIsTheWidestTheCpuHas) {
     EXPECT_EQ(beamLanes(), widestLanes());
     EXPECT_FALSE(setBeamLanes(3));
@@ -133,7 +84,7 @@ TEST(BeamLanes, TheAutomaticChoiceIsTheWidestTheCpuHas) {
 }
 
 TEST(BeamLanes, LaneWidthsAreBitIdentical) {
-    const std::vector<int> widths = availableLanes();
+    const std::vector<int> widths = testing::availableLanes();
     if (widths.size() < 2) {
         GTEST_SKIP() << "CPU without AVX2: only the 2-lane pass exists here";
     }
@@ -164,9 +115,9 @@ TEST(BeamLanes, LanePathMatchesTheScalarLawPerBond) {
     // quaternion products (lane kinematics, ≈ 1e-16 relative on the angles; the loads are linear in them):
     // 1e-12 of each bond's load scale leaves four orders of magnitude for that and catches any wrong term.
     // Bonds beyond the series range (turned particles) and broken bonds are among them.
-    for (int lanes : availableLanes()) {
+    for (int lanes : testing::availableLanes()) {
         ASSERT_TRUE(setBeamLanes(lanes));
-        Model m = laneTestModel(false);
+        Model m = testing::strainedBondModel(false);
         const BondView b = passView(m);
         ASSERT_NE(b.n % 4, 0u);
         ASSERT_NE(b.n % 8, 0u);

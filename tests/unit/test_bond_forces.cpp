@@ -25,40 +25,8 @@
 namespace vitrum {
 namespace {
 
-/// 6 000 particles, ≈ 37 000 bonds: 18 tiles of kBondTile = 2048 bonds, so 2, 3 and 7 threads split them in
-/// ranges whose boundary particles have bonds on both sides. Agitated, turned, every 41st bond broken; with
-/// densification some bonds slipped earlier and many slip now (yield stress 0.5 GPa).
-Model sweepModel(bool densify) {
-    Model m = testing::fccModel("sphere", 3.0, 6000);
-    testing::agitate(m, 5, 1e-3);
-    std::mt19937_64 rng(11);
-    std::normal_distribution<double> g(0.0, 2e-3);
-    for (double& x : m.particles.position)
-        x += g(rng);
-    for (std::size_t q = 0; q < m.particles.size(); ++q) {
-        const Quat turn(Eigen::AngleAxisd(10.0 * g(rng), Vec3(1.0 + g(rng), 0.5, -0.2).normalized()));
-        storeQuat(m.particles.orientation.data(), q, turn * loadQuat(m.particles.orientation.data(), q));
-    }
-    for (std::size_t k = 0; k < m.bonds.size(); k += 41) {
-        m.bonds.broken[k] = 1;
-    }
-    if (densify) {
-        m.bonds.enableDensification();
-        for (std::size_t k = 3; k < m.bonds.size(); k += 13) {
-            m.bonds.slip[k] = 0.01;
-            m.bonds.reference_strain[k] = -0.01;
-        }
-    }
-    return m;
-}
-
-DensificationLaw sweepLaw(bool evolve, double young) {
-    DensificationLaw law;
-    law.slider = SpringSlider::make(0.5, 98.82, 0.067, young);
-    law.evolve = evolve;
-    law.evolution = testing::silicaEvolution();
-    return law;
-}
+/// testing::strainedBondModel: 6 000 particles, ≈ 37 000 bonds, 18 tiles of kBondTile = 2048 bonds, so 2, 3
+/// and 7 threads split them in ranges whose boundary particles have bonds on both sides.
 
 /// Variant: 0 plain, 1 bond-viscous, 2 slider, 3 slider + evolution, 4 viscous + slider + evolution,
 /// 5 plain with per-bond weights (coupling).
@@ -74,7 +42,7 @@ std::vector<double> runSweep(Model& m, const Sweep& s) {
     const int threads_before = threadCount();
     setThreadCount(s.threads);
     EXPECT_TRUE(setBeamLanes(s.lanes));
-    const DensificationLaw law = sweepLaw(s.variant >= 3, m.bonds.young[0]);
+    const DensificationLaw law = testing::lowYieldSlider(s.variant >= 3, m.bonds.young[0]);
     const BondViscousDamping viscous{0.1};
     std::vector<double> weight(m.bonds.size());
     for (std::size_t k = 0; k < weight.size(); ++k) {
@@ -137,27 +105,16 @@ std::size_t differingBits(const std::vector<double>& a, const std::vector<double
     return n;
 }
 
-std::vector<int> laneWidths() {
-    std::vector<int> widths{2};
-    if (__builtin_cpu_supports("avx2")) {
-        widths.push_back(4);
-    }
-    if (__builtin_cpu_supports("avx512f")) {
-        widths.push_back(8);
-    }
-    return widths;
-}
-
 TEST(BondForces, FusedSweepIsBitIdenticalToTheSeparatePasses) {
     for (int variant = 0; variant < 6; ++variant) {
-        Model ref_model = sweepModel(variant >= 2);
+        Model ref_model = testing::strainedBondModel(variant >= 2);
         const std::vector<double> reference = runSweep(ref_model, {variant, false, 1, 2});
         for (const double v : reference) {
             ASSERT_TRUE(std::isfinite(v)) << "variant " << variant; // the reference itself is sound
         }
         for (const int threads : {1, 2, 3, 7}) {
-            for (const int lanes : laneWidths()) {
-                Model m = sweepModel(variant >= 2);
+            for (const int lanes : testing::availableLanes()) {
+                Model m = testing::strainedBondModel(variant >= 2);
                 const std::vector<double> fused = runSweep(m, {variant, true, threads, lanes});
                 EXPECT_EQ(differingBits(reference, fused), 0u)
                     << "variant " << variant << ", " << threads << " threads, " << lanes << " lanes";
@@ -169,11 +126,11 @@ TEST(BondForces, FusedSweepIsBitIdenticalToTheSeparatePasses) {
 /// The bonds in a random order (not sorted by their smaller end, as the store keeps them): the sweep's order
 /// assumption is then false everywhere, and it must still gather every particle once, after all its bonds.
 TEST(BondForces, BondsInAnyOrderAreStillGatheredAfterAllTheirLoads) {
-    Model sorted = sweepModel(false);
+    Model sorted = testing::strainedBondModel(false);
     std::vector<std::size_t> order(sorted.bonds.size());
     std::iota(order.begin(), order.end(), 0);
     std::shuffle(order.begin(), order.end(), std::mt19937_64(7));
-    Model m = sweepModel(false);
+    Model m = testing::strainedBondModel(false);
     Bonds& b = m.bonds;
     const Bonds& s = sorted.bonds;
     for (std::size_t k = 0; k < order.size(); ++k) {
@@ -203,7 +160,7 @@ TEST(BondForces, BondsInAnyOrderAreStillGatheredAfterAllTheirLoads) {
 }
 
 TEST(BondForces, ParticlesWithoutBondsGetZeroAndAMissingReadyIsRefused) {
-    Model m = sweepModel(false);
+    Model m = testing::strainedBondModel(false);
     std::fill(m.particles.force.begin(), m.particles.force.end(), 1.0);
     Bonds none;
     m.bonds = none;
