@@ -158,8 +158,8 @@ Model strainedBondModel(bool densify) {
 
 DensificationLaw lowYieldSlider(bool evolve, double young) {
     DensificationLaw law;
-    // A yield stress low enough that the agitated lattice (axial strains up to ≈ 1 %) slips in a good share of
-    // its bonds in compression, and a hardening slider, so both slider branches run.
+    // A yield stress low enough that the agitated lattice (axial strains up to ≈ 1 %) slips in a good share
+    // of its bonds in compression, and a hardening slider, so both slider branches run.
     law.slider = SpringSlider::make(0.5, 98.82, 0.067, young);
     law.evolve = evolve;
     law.evolution = silicaEvolution();

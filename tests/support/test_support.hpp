@@ -48,10 +48,10 @@ std::vector<std::vector<double>> readCsvColumns(const std::filesystem::path& pat
 /// the tests do not move when the calibration is regenerated.
 PropertyEvolution silicaEvolution();
 
-/// An FCC sphere of 6 000 particles (≈ 37 000 bonds, a multiple of 4), every beam stretched, bent and twisted;
-/// every 97th particle turned by 0.3–0.6 rad (its bonds leave the beam pass's series range), every 41st bond
-/// broken; with `densify`, the densification state sized and every 13th bond densified earlier. For the bond
-/// pass tests (lanes, fused sweep).
+/// An FCC sphere of 6 000 particles (≈ 37 000 bonds, a multiple of 4), every beam stretched, bent and
+/// twisted; every 97th particle turned by 0.3–0.6 rad (its bonds leave the beam pass's series range), every
+/// 41st bond broken; with `densify`, the densification state sized and every 13th bond densified earlier. For
+/// the bond pass tests (lanes, fused sweep).
 Model strainedBondModel(bool densify);
 
 /// A spring-slider whose 0.5 GPa yield stress makes a good share of strainedBondModel's bonds slip in

@@ -20,8 +20,8 @@
 namespace vitrum {
 namespace {
 
-/// The bond view the passes take: every bond but the last. testing::strainedBondModel's bond count is a multiple
-/// of 4, so this count is odd and the last block of the 4- and 8-lane passes is partial.
+/// The bond view the passes take: every bond but the last. testing::strainedBondModel's bond count is a
+/// multiple of 4, so this count is odd and the last block of the 4- and 8-lane passes is partial.
 BondView passView(Model& m) {
     BondView b = m.bonds.view();
     b.n -= 1 + m.bonds.size() % 4;
@@ -48,7 +48,8 @@ std::vector<double> passOutputs(const Model& m) {
 std::vector<double> runPass(int variant, int lanes, int* slipped = nullptr) {
     EXPECT_TRUE(setBeamLanes(lanes));
     Model m = testing::strainedBondModel(variant >= 2);
-    const DensificationLaw law = testing::lowYieldSlider(variant >= 3, m.bonds.young.empty() ? 0.0 : m.bonds.young[0]);
+    const DensificationLaw law =
+        testing::lowYieldSlider(variant >= 3, m.bonds.young.empty() ? 0.0 : m.bonds.young[0]);
     const std::vector<double> slip_before = m.bonds.slip;
     switch (variant) {
     case 0: computeBeamLoads(passView(m), m.particles.view()); break;
