@@ -784,7 +784,8 @@ int runScene(const RunOptions& options) {
         throw RuntimeFailure("time.duration (" + std::to_string(scene.time.duration) + " ns) ran out in stage '" +
                              model.indenter->stageName() + "' at depth " + std::to_string(model.indenter->depth()) +
                              " um and tool force " + std::to_string(model.indenter->force() * kNewtonPerMilliNewton) +
-                             " N; the results written are those of an unfinished indentation: raise time.duration");
+                             " N; the results written are those of an unfinished indentation: " +
+                             unfinishedStageAdvice(*model.indenter));
     }
     return 0;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 #include "solver/model.hpp"
@@ -175,6 +176,26 @@ void advanceIndenter(Indenter& ind, double time, double dt, double kinetic_energ
     ind.tip_velocity = v;
     ind.tip.z() += v * dt;
     ind.max_depth = std::max(ind.max_depth, ind.depth());
+}
+
+std::string unfinishedStageAdvice(const Indenter& ind) {
+    if (!ind.done()) {
+        const StageParams& s = ind.stages[static_cast<std::size_t>(ind.stage)];
+        const double band_start = (1.0 - s.slow_band) * s.until_force;
+        if (s.kind == StageKind::Load && s.until_force > 0.0 && ind.force() >= band_start) {
+            std::ostringstream text;
+            text << "the load stage's force, " << ind.force() / s.until_force * 100.0
+                 << " % of until_force, is inside its slow band (slow_band = " << s.slow_band
+                 << "), where the tip slows to " << kMinSpeedFraction * 100.0
+                 << " % of its speed; a sample that yields under the slowed tip holds its force below the target, so "
+                    "more time may not help: narrow the band so that the tip stays fast up to the target (e.g. --set "
+                    "'stage["
+                 << ind.stage << "].slow_band=" << s.slow_band / 10.0
+                 << "'), lower until_force below the force the sample holds, or raise time.duration";
+            return text.str();
+        }
+    }
+    return "raise time.duration";
 }
 
 double toolContactOmegaSquared(const Indenter& indenter, const Model& model) {

@@ -60,6 +60,13 @@ Indenter makeIndenter(const Scene& scene, const Model& model);
 /// step (and, in relax, on `kinetic_energy` when it is >= 0), then sets the tip velocity and moves the tip.
 void advanceIndenter(Indenter& indenter, double time, double dt, double kinetic_energy);
 
+/// Why the stage in progress may not have finished, and what to change, for the message of a run whose
+/// time.duration ran out. A load stage whose force has entered its slow band (within slow_band · until_force)
+/// is creeping: the tip moves at as little as 0.5 % of the stage speed there, and a sample that yields under
+/// the slowed tool holds its force just below the target (seen with effect coupling at 0.5 N), so more time
+/// does not help; a narrower slow_band keeps the tip fast up to the target. Otherwise: more time.
+std::string unfinishedStageAdvice(const Indenter& indenter);
+
 /// The extra angular frequency the tool contact can add: ω² ≤ ω_bonds² + k_n/m_min (Weyl's inequality for
 /// a diagonal stiffness k_n added to the mass-scaled stiffness), rad/ns.
 double toolContactOmegaSquared(const Indenter& indenter, const Model& model);

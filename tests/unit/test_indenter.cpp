@@ -2,6 +2,7 @@
 // and the stage controller's force targeting (kernels/indenter.hpp, solver/indentation.hpp).
 #include <cmath>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -225,6 +226,49 @@ TEST(IndentationController, LoadsToTheTargetWithinOnePercentHoldsAndUnloads) {
     EXPECT_LE(peak, 101.0); // the 1 % bound
     EXPECT_NEAR(hold_end - hold_start, 5.0, dt + 1e-12);
     EXPECT_LE(ind.depth(), 0.0); // unloaded to contact loss
+}
+
+/// A load stage against a "sample" that yields inside the slow band: F = K·depth up to 97 % of the target,
+/// then a hardening of 1 % of K. Within its 5 % band the tip slows to 0.5 % of its speed, so the force creeps
+/// (≈ 150 ns from the yield to the target here); the advice for a run that ran out of time says so and
+/// suggests a band ten times narrower, with which the same stage reaches its target within the time budget
+/// (≈ 30 ns from the yield: the tip stays fast up to 99.5 %). Below the band the advice is only "more time".
+TEST(IndentationController, AStageCreepingInItsSlowBandIsToldApartFromOneThatNeedsMoreTime) {
+    const double target = 100.0, stiffness = 2000.0, yield = 97.0, hardening = 20.0; // mN, mN/µm
+    auto run = [&](double slow_band, double budget_ns) {
+        Indenter ind;
+        StageParams load;
+        load.kind = StageKind::Load;
+        load.speed = 0.01;
+        load.until_force = target;
+        load.slow_band = slow_band;
+        ind.stages = {load};
+        ind.tip = Vec3(0, 0, 0.05);
+        const double dt = 0.005;
+        double peak = 0.0;
+        for (long step = 0; (step + 1) * dt <= budget_ns && !ind.done(); ++step) {
+            advanceIndenter(ind, (step + 1) * dt, dt, -1.0);
+            const double d = std::max(ind.depth(), 0.0);
+            const double d_yield = yield / stiffness;
+            const double f = d < d_yield ? stiffness * d : yield + hardening * (d - d_yield);
+            ind.reaction.force = Vec3(0, 0, f);
+            peak = std::max(peak, f);
+        }
+        EXPECT_LE(peak, 1.01 * target); // the controller's overshoot bound holds in both
+        return ind;
+    };
+    const Indenter creeping = run(0.05, 100.0);
+    ASSERT_FALSE(creeping.done());
+    EXPECT_GT(creeping.force(), 0.95 * target); // inside the band, still short of the target
+    const std::string advice = unfinishedStageAdvice(creeping);
+    EXPECT_NE(advice.find("slow band"), std::string::npos) << advice;
+    EXPECT_NE(advice.find("stage[0].slow_band=0.005"), std::string::npos) << advice;
+    EXPECT_TRUE(run(0.005, 100.0).done()); // the advice works on this sample
+
+    const Indenter early = run(0.05, 8.0); // stopped while still loading at full speed
+    ASSERT_FALSE(early.done());
+    EXPECT_LT(early.force(), 0.95 * target);
+    EXPECT_EQ(unfinishedStageAdvice(early), "raise time.duration");
 }
 
 } // namespace
