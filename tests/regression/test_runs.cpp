@@ -152,14 +152,16 @@ TEST(Restart, RefusesACheckpointOfAnotherScene) {
 /// Runs `vitrum run <args> --out <dir>` in the background, waits until its first checkpoint `dir/state.h5`
 /// exists (written inside the time loop, so the run's signal handler is installed; atomic rename, so it is
 /// complete), `delay` seconds more, then sends `signal` (TERM or KILL). Returns vitrum's exit status as the
-/// shell reports it (128 + n when the signal killed it), or −1 if no checkpoint appeared within 120 s. A fixed
-/// delay from the start would land in the set-up on a slow or loaded machine.
-int signalAfterFirstCheckpoint(const std::string& args, const fs::path& dir, const char* signal, double delay) {
-    const std::string script = std::string(VITRUM_BINARY) + " run " + args + " --out " + dir.string() + " > " +
-                               (dir / "log1.txt").string() + " 2>&1 & pid=$!; for i in $(seq 1 2400); do [ -e " +
-                               (dir / "state.h5").string() + " ] && break; kill -0 $pid 2>/dev/null || break; " +
-                               "sleep 0.05; done; [ -e " + (dir / "state.h5").string() + " ] || exit 255; sleep " +
-                               std::to_string(delay) + "; kill -" + signal + " $pid 2>/dev/null; wait $pid";
+/// shell reports it (128 + n when the signal killed it), or −1 if no checkpoint appeared within 120 s. A
+/// fixed delay from the start would land in the set-up on a slow or loaded machine.
+int signalAfterFirstCheckpoint(const std::string& args, const fs::path& dir, const char* signal,
+                               double delay) {
+    const std::string script =
+        std::string(VITRUM_BINARY) + " run " + args + " --out " + dir.string() + " > " +
+        (dir / "log1.txt").string() + " 2>&1 & pid=$!; for i in $(seq 1 2400); do [ -e " +
+        (dir / "state.h5").string() + " ] && break; kill -0 $pid 2>/dev/null || break; " +
+        "sleep 0.05; done; [ -e " + (dir / "state.h5").string() + " ] || exit 255; sleep " +
+        std::to_string(delay) + "; kill -" + signal + " $pid 2>/dev/null; wait $pid";
     const std::string cmd = "bash -c '" + script + "'";
     const int status = std::system(cmd.c_str());
     if (!WIFEXITED(status) || WEXITSTATUS(status) == 255) {
@@ -178,7 +180,8 @@ TEST(Restart, SigtermSavesACheckpointThatRestartsToTheSameState) {
     const fs::path full = freshTempDir("sigterm-full");
     const fs::path cut = freshTempDir("sigterm-cut");
     ASSERT_EQ(runVitrum("run " + kCompression + " --out " + full.string() + longer, full / "log.txt"), 0);
-    ASSERT_EQ(signalAfterFirstCheckpoint(kCompression + longer, cut, "TERM", 0.0), 1) << readText(cut / "log1.txt");
+    ASSERT_EQ(signalAfterFirstCheckpoint(kCompression + longer, cut, "TERM", 0.0), 1)
+        << readText(cut / "log1.txt");
     EXPECT_NE(readText(cut / "log1.txt").find("--restart"), std::string::npos) << readText(cut / "log1.txt");
     ASSERT_EQ(runVitrum("run " + kCompression + " --out " + cut.string() + longer + " --restart " +
                             (cut / "state.h5").string(),
@@ -202,7 +205,9 @@ TEST(Restart, SigkillDuringACheckpointWriteLeavesTheLastCompleteCheckpoint) {
         const fs::path cut = freshTempDir("sigkill-cut");
         const int status = signalAfterFirstCheckpoint(kCompression + every, cut, "KILL", delay);
         ASSERT_NE(status, -1) << "no checkpoint appeared: " << readText(cut / "log1.txt");
-        if (status == 0) continue; // finished before the kill: nothing to check at this moment
+        if (status == 0) {
+            continue; // finished before the kill: nothing to check at this moment
+        }
         ASSERT_EQ(status, 128 + 9) << readText(cut / "log1.txt");
         ++survived;
         ASSERT_EQ(runVitrum("run " + kCompression + " --out " + cut.string() + every + " --restart " +
