@@ -13,7 +13,8 @@
 //                                  rebuilt): what the space-filling curve buys. Variant 2: Morton order, but
 //                                  the bonds sorted by their larger end (then the smaller), so that a bond's
 //                                  far end is the one the stream reached last (recently touched, cached)
-//                                  rather than one still ahead of it.
+//                                  rather than one still ahead of it. Variant 3: the particles relabelled in
+//                                  Hilbert order (no jumps at octant boundaries), bonds by smaller end.
 //   BM_FusedGatherKick/n/variant   gather then half kick as two passes (0, production) or fused into one pass
 //                                  per particle (1: the summed force and torque update the velocities from
 //                                  registers; they are still stored, for probes and output). Valid only when
@@ -191,7 +192,44 @@ void BM_LayoutParticles(benchmark::State& state) {
 /// Variant 1: the bench model relabelled by a random permutation of the particles: particle arrays
 /// permuted, each bond's ends relabelled (end roles kept, so the physics of every bond is unchanged), bonds
 /// re-sorted by their new smaller end (then the larger), CSR rebuilt. Variant 2: the identity relabelling,
-/// bonds sorted by their larger end (then the smaller). `old_of_new[new] = old` maps the results back.
+/// bonds sorted by their larger end (then the smaller). Variant 3: relabelled in the Hilbert order of the
+/// positions (hilbertIndex, 2^10 cells per axis), bonds by smaller end. `old_of_new[new] = old` maps the
+/// results back.
+/// Position of cell (x, y, z) along a 3-D Hilbert curve over 2^bits cells per axis (Skilling's transposed
+/// form: undo the excess work axis by axis from the top bit down, Gray-encode, then interleave the bits, x
+/// first). Consecutive indices are face-adjacent cells, unlike Morton's, which jumps at every octant boundary.
+std::uint64_t hilbertIndex(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits) {
+    std::uint32_t axis[3] = {x, y, z};
+    const std::uint32_t top = 1u << (bits - 1);
+    for (std::uint32_t q = top; q > 1; q >>= 1) {
+        const std::uint32_t low = q - 1;
+        for (std::uint32_t& a : axis) {
+            if (a & q) {
+                axis[0] ^= low; // invert the low bits of the first axis
+            } else {
+                const std::uint32_t swap = (axis[0] ^ a) & low; // exchange the low bits with the first axis
+                axis[0] ^= swap;
+                a ^= swap;
+            }
+        }
+    }
+    axis[1] ^= axis[0];
+    axis[2] ^= axis[1];
+    std::uint32_t flip = 0;
+    for (std::uint32_t q = top; q > 1; q >>= 1) {
+        if (axis[2] & q) {
+            flip ^= q - 1;
+        }
+    }
+    std::uint64_t index = 0;
+    for (int bit = bits - 1; bit >= 0; --bit) {
+        for (const std::uint32_t a : axis) {
+            index = (index << 1) | (((a ^ flip) >> bit) & 1u);
+        }
+    }
+    return index;
+}
+
 struct ShuffledModel {
     vitrum::Particles particles;
     vitrum::Bonds bonds;
@@ -225,6 +263,21 @@ ShuffledModel& shuffledFor(long n, int variant) {
     std::mt19937_64 rng(0x0bde7 + static_cast<std::uint64_t>(n));
     if (variant == 1) {
         std::shuffle(old_of_new.begin(), old_of_new.end(), rng);
+    } else if (variant == 3) { // Hilbert order of the positions, 2^10 cells per axis
+        Vec3 lo = vitrum::load3(p.position.data(), 0), hi = lo;
+        for (std::size_t r = 0; r < np; ++r) {
+            lo = lo.cwiseMin(vitrum::load3(p.position.data(), r));
+            hi = hi.cwiseMax(vitrum::load3(p.position.data(), r));
+        }
+        const double scale = 1023.0 / std::max((hi - lo).maxCoeff(), 1e-300);
+        std::vector<std::uint64_t> code(np);
+        for (std::size_t r = 0; r < np; ++r) {
+            const Vec3 u = (vitrum::load3(p.position.data(), r) - lo) * scale;
+            code[r] = hilbertIndex(static_cast<std::uint32_t>(u.x()), static_cast<std::uint32_t>(u.y()),
+                                   static_cast<std::uint32_t>(u.z()), 10);
+        }
+        std::stable_sort(old_of_new.begin(), old_of_new.end(),
+                         [&](std::size_t a, std::size_t c) { return code[a] < code[c]; });
     }
     std::vector<std::int32_t> new_of_old(np);
     for (std::size_t r = 0; r < np; ++r) {
@@ -269,6 +322,12 @@ ShuffledModel& shuffledFor(long n, int variant) {
     s.twist_ref = permuteRows(b.twist_ref, order, 4);
     s.broken = permuteRows(b.broken, order, 1);
     sm->incidence = vitrum::Incidence::build(np, s);
+    // On 2 MiB pages like the production model (modelFor), so that only the order differs.
+    auto place = [](const char*, auto& values, int) { vitrum::placeOnPages(values, vitrum::PagePolicy::Huge); };
+    vitrum::forEachField(sm->particles, place);
+    vitrum::forEachField(sm->bonds, place);
+    vitrum::placeOnPages(sm->incidence.offset, vitrum::PagePolicy::Huge);
+    vitrum::placeOnPages(sm->incidence.entry, vitrum::PagePolicy::Huge);
     sm->old_of_new = std::move(old_of_new);
     return *cache.emplace(std::pair(n, variant), std::move(sm)).first->second;
 }
@@ -309,7 +368,8 @@ void BM_ParticleOrder(benchmark::State& state) {
     }
     state.SetLabel(variant == 0   ? "morton (production)"
                    : variant == 1 ? "random permutation"
-                                  : "morton, bonds by larger end");
+                   : variant == 2 ? "morton, bonds by larger end"
+                                  : "hilbert");
     commonCounters(state, pv.n, bv.n, rel);
 }
 
@@ -381,7 +441,7 @@ BENCHMARK(BM_LayoutParticles)
     ->UseRealTime();
 BENCHMARK(BM_ParticleOrder)
     ->ArgNames({"n", "variant"})
-    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2}})
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1, 2, 3}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(BM_FusedGatherKick)
