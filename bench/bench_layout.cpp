@@ -197,7 +197,8 @@ void BM_LayoutParticles(benchmark::State& state) {
 /// results back.
 /// Position of cell (x, y, z) along a 3-D Hilbert curve over 2^bits cells per axis (Skilling's transposed
 /// form: undo the excess work axis by axis from the top bit down, Gray-encode, then interleave the bits, x
-/// first). Consecutive indices are face-adjacent cells, unlike Morton's, which jumps at every octant boundary.
+/// first). Consecutive indices are face-adjacent cells, unlike Morton's, which jumps at every octant
+/// boundary.
 std::uint64_t hilbertIndex(std::uint32_t x, std::uint32_t y, std::uint32_t z, int bits) {
     std::uint32_t axis[3] = {x, y, z};
     const std::uint32_t top = 1u << (bits - 1);
@@ -323,7 +324,9 @@ ShuffledModel& shuffledFor(long n, int variant) {
     s.broken = permuteRows(b.broken, order, 1);
     sm->incidence = vitrum::Incidence::build(np, s);
     // On 2 MiB pages like the production model (modelFor), so that only the order differs.
-    auto place = [](const char*, auto& values, int) { vitrum::placeOnPages(values, vitrum::PagePolicy::Huge); };
+    auto place = [](const char*, auto& values, int) {
+        vitrum::placeOnPages(values, vitrum::PagePolicy::Huge);
+    };
     vitrum::forEachField(sm->particles, place);
     vitrum::forEachField(sm->bonds, place);
     vitrum::placeOnPages(sm->incidence.offset, vitrum::PagePolicy::Huge);
