@@ -531,114 +531,112 @@ template <int W, bool Viscous, int Densify>
 inline void beamBlock(const BondView& b, const ParticleView& p, const detail::BeamPass& pass, std::size_t m) {
     using Real = typename Lanes<W>::Real;
     using Mask = typename Lanes<W>::Mask;
-    {
-        const Block<W> blk = blockOf<W>(b, m);
-        const KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
-        const Real l0 = bond1<W>(b.rest_length, blk);
-        Real stretch = kin.stretch;
-        Mask slipping{};
-        Real young, shear, radius;
-        if constexpr (Densify > 0) {
-            // densify() of a bond that does not slip: the same expressions, lane-wise.
-            const DensificationLaw& law = *pass.law;
-            const DensificationView& d = *pass.state;
-            const Real strain = kin.stretch / l0;
-            const Real slip = bond1<W>(d.slip, blk);
-            const Real reference = bond1<W>(d.reference_strain, blk);
-            young = bond1<W>(d.young, blk);
-            shear = bond1<W>(d.shear, blk);
-            radius = bond1<W>(d.section_radius, blk);
-            Real section_factor = Real{} + 1.0;
-            if constexpr (Densify == 2) {
-                if (anyLane(slip != 0.0)) { // rare: a block with a bond densified earlier
-                    section_factor = sectionFactors<W>(law, slip);
-                }
+    const Block<W> blk = blockOf<W>(b, m);
+    const KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
+    const Real l0 = bond1<W>(b.rest_length, blk);
+    Real stretch = kin.stretch;
+    Mask slipping{};
+    Real young, shear, radius;
+    if constexpr (Densify > 0) {
+        // densify() of a bond that does not slip: the same expressions, lane-wise.
+        const DensificationLaw& law = *pass.law;
+        const DensificationView& d = *pass.state;
+        const Real strain = kin.stretch / l0;
+        const Real slip = bond1<W>(d.slip, blk);
+        const Real reference = bond1<W>(d.reference_strain, blk);
+        young = bond1<W>(d.young, blk);
+        shear = bond1<W>(d.shear, blk);
+        radius = bond1<W>(d.section_radius, blk);
+        Real section_factor = Real{} + 1.0;
+        if constexpr (Densify == 2) {
+            if (anyLane(slip != 0.0)) { // rare: a block with a bond densified earlier
+                section_factor = sectionFactors<W>(law, slip);
             }
-            const Real stress = (young * section_factor) * (strain - reference);
-            const Real excess = -stress - (law.slider.yield_stress + law.slider.hardening * slip);
-            slipping = (excess > 0.0) & (slip < law.slider.max_slip);
-            stretch = (strain - reference) * l0;
+        }
+        const Real stress = (young * section_factor) * (strain - reference);
+        const Real excess = -stress - (law.slider.yield_stress + law.slider.hardening * slip);
+        slipping = (excess > 0.0) & (slip < law.slider.max_slip);
+        stretch = (strain - reference) * l0;
+    } else {
+        young = bond1<W>(b.young, blk);
+        shear = bond1<W>(b.shear, blk);
+        radius = bond1<W>(b.section_radius, blk);
+    }
+    // EulerBernoulliBeam::make
+    const Real r2 = radius * radius;
+    const Real area = std::numbers::pi * r2;
+    const Real second_moment = 0.25 * std::numbers::pi * r2 * r2;
+    const Real polar_moment = 2.0 * second_moment;
+    const Real inv_rest = 1.0 / l0;
+    const Real axial_stiffness = young * area * inv_rest;
+    const Real bending_stiffness = 2.0 * young * second_moment * inv_rest;
+    const Real torsion_stiffness = shear * polar_moment * inv_rest;
+    // EulerBernoulliBeam::evaluate
+    const Real normal_force = axial_stiffness * stretch;
+    const Vec3L<W> bend_sum{kin.theta_i.x + kin.theta_j.x, kin.theta_i.y + kin.theta_j.y,
+                            kin.theta_i.z + kin.theta_j.z};
+    const Real shear_factor = 3.0 * bending_stiffness / kin.length;
+    const Vec3L<W> c = cross(kin.axis, bend_sum);
+    Vec3L<W> force{normal_force * kin.axis.x + shear_factor * c.x, normal_force * kin.axis.y + shear_factor * c.y,
+                   normal_force * kin.axis.z + shear_factor * c.z};
+    const Real twist_moment = torsion_stiffness * kin.twist;
+    const Vec3L<W> twist_torque{twist_moment * kin.axis.x, twist_moment * kin.axis.y, twist_moment * kin.axis.z};
+    Vec3L<W> torque_i{twist_torque.x - bending_stiffness * (2.0 * kin.theta_i.x + kin.theta_j.x),
+                      twist_torque.y - bending_stiffness * (2.0 * kin.theta_i.y + kin.theta_j.y),
+                      twist_torque.z - bending_stiffness * (2.0 * kin.theta_i.z + kin.theta_j.z)};
+    Vec3L<W> torque_j{-twist_torque.x - bending_stiffness * (kin.theta_i.x + 2.0 * kin.theta_j.x),
+                      -twist_torque.y - bending_stiffness * (kin.theta_i.y + 2.0 * kin.theta_j.y),
+                      -twist_torque.z - bending_stiffness * (kin.theta_i.z + 2.0 * kin.theta_j.z)};
+    if constexpr (Viscous) {
+        // the dashpots of finishBond
+        const Real mi = gather1<W>(p.mass, blk.i);
+        const Real mj = gather1<W>(p.mass, blk.j);
+        const Real ii = gather1<W>(p.inertia, blk.i);
+        const Real ij = gather1<W>(p.inertia, blk.j);
+        const Real m_eff = mi * mj / (mi + mj);
+        const Real j_eff = ii * ij / (ii + ij);
+        const Real c_axial = pass.damping_ratio * 2.0 * sqrtL(m_eff * axial_stiffness);
+        const Real c_rot = pass.damping_ratio * 2.0 * sqrtL(j_eff * 2.0 * bending_stiffness);
+        const Vec3L<W> vi = gather3<W>(p.velocity, blk.i);
+        const Vec3L<W> vj = gather3<W>(p.velocity, blk.j);
+        const Vec3L<W> dv{vj.x - vi.x, vj.y - vi.y, vj.z - vi.z};
+        const Real axial_rate = dot(dv, kin.axis);
+        const Vec3L<W> wi = gather3<W>(p.angular_velocity, blk.i);
+        const Vec3L<W> wj = gather3<W>(p.angular_velocity, blk.j);
+        const Vec3L<W> spin{wj.x - wi.x, wj.y - wi.y, wj.z - wi.z};
+        const Real damper = c_axial * axial_rate;
+        force = {force.x + damper * kin.axis.x, force.y + damper * kin.axis.y, force.z + damper * kin.axis.z};
+        torque_i = {torque_i.x + c_rot * spin.x, torque_i.y + c_rot * spin.y, torque_i.z + c_rot * spin.z};
+        torque_j = {torque_j.x - c_rot * spin.x, torque_j.y - c_rot * spin.y, torque_j.z - c_rot * spin.z};
+    }
+    // A full block with every bond on the lane path (the common case) is stored in contiguous runs.
+    static_assert(W <= 8, "the broken flags of a block are read as one 64-bit word");
+    std::uint64_t broken_bytes = 0;
+    if (blk.count == W) {
+        __builtin_memcpy(&broken_bytes, b.broken + blk.k[0], W);
+    }
+    if (blk.count == W && broken_bytes == 0 && !anyLane(~kin.in_range) && !anyLane(slipping)) {
+        constexpr auto lanes = std::make_index_sequence<W>{};
+        joinRun3<W>(b.force + 3 * blk.k[0], force, lanes);
+        joinRun3<W>(b.torque_i + 3 * blk.k[0], torque_i, lanes);
+        joinRun3<W>(b.torque_j + 3 * blk.k[0], torque_j, lanes);
+        return;
+    }
+    for (int l = 0; l < blk.count; ++l) {
+        const std::size_t k = blk.k[l];
+        if (b.broken[k]) {
+            store3(b.force, k, Vec3::Zero());
+            store3(b.torque_i, k, Vec3::Zero());
+            store3(b.torque_j, k, Vec3::Zero());
+        } else if (kin.in_range[l] == 0) {
+            scalarBond<Viscous, Densify>(b, p, pass, k, nullptr);
+        } else if (slipping[l] != 0) {
+            const BeamKinematics lane = kin.lane(l);
+            scalarBond<Viscous, Densify>(b, p, pass, k, &lane);
         } else {
-            young = bond1<W>(b.young, blk);
-            shear = bond1<W>(b.shear, blk);
-            radius = bond1<W>(b.section_radius, blk);
-        }
-        // EulerBernoulliBeam::make
-        const Real r2 = radius * radius;
-        const Real area = std::numbers::pi * r2;
-        const Real second_moment = 0.25 * std::numbers::pi * r2 * r2;
-        const Real polar_moment = 2.0 * second_moment;
-        const Real inv_rest = 1.0 / l0;
-        const Real axial_stiffness = young * area * inv_rest;
-        const Real bending_stiffness = 2.0 * young * second_moment * inv_rest;
-        const Real torsion_stiffness = shear * polar_moment * inv_rest;
-        // EulerBernoulliBeam::evaluate
-        const Real normal_force = axial_stiffness * stretch;
-        const Vec3L<W> bend_sum{kin.theta_i.x + kin.theta_j.x, kin.theta_i.y + kin.theta_j.y,
-                                kin.theta_i.z + kin.theta_j.z};
-        const Real shear_factor = 3.0 * bending_stiffness / kin.length;
-        const Vec3L<W> c = cross(kin.axis, bend_sum);
-        Vec3L<W> force{normal_force * kin.axis.x + shear_factor * c.x, normal_force * kin.axis.y + shear_factor * c.y,
-                       normal_force * kin.axis.z + shear_factor * c.z};
-        const Real twist_moment = torsion_stiffness * kin.twist;
-        const Vec3L<W> twist_torque{twist_moment * kin.axis.x, twist_moment * kin.axis.y, twist_moment * kin.axis.z};
-        Vec3L<W> torque_i{twist_torque.x - bending_stiffness * (2.0 * kin.theta_i.x + kin.theta_j.x),
-                          twist_torque.y - bending_stiffness * (2.0 * kin.theta_i.y + kin.theta_j.y),
-                          twist_torque.z - bending_stiffness * (2.0 * kin.theta_i.z + kin.theta_j.z)};
-        Vec3L<W> torque_j{-twist_torque.x - bending_stiffness * (kin.theta_i.x + 2.0 * kin.theta_j.x),
-                          -twist_torque.y - bending_stiffness * (kin.theta_i.y + 2.0 * kin.theta_j.y),
-                          -twist_torque.z - bending_stiffness * (kin.theta_i.z + 2.0 * kin.theta_j.z)};
-        if constexpr (Viscous) {
-            // the dashpots of finishBond
-            const Real mi = gather1<W>(p.mass, blk.i);
-            const Real mj = gather1<W>(p.mass, blk.j);
-            const Real ii = gather1<W>(p.inertia, blk.i);
-            const Real ij = gather1<W>(p.inertia, blk.j);
-            const Real m_eff = mi * mj / (mi + mj);
-            const Real j_eff = ii * ij / (ii + ij);
-            const Real c_axial = pass.damping_ratio * 2.0 * sqrtL(m_eff * axial_stiffness);
-            const Real c_rot = pass.damping_ratio * 2.0 * sqrtL(j_eff * 2.0 * bending_stiffness);
-            const Vec3L<W> vi = gather3<W>(p.velocity, blk.i);
-            const Vec3L<W> vj = gather3<W>(p.velocity, blk.j);
-            const Vec3L<W> dv{vj.x - vi.x, vj.y - vi.y, vj.z - vi.z};
-            const Real axial_rate = dot(dv, kin.axis);
-            const Vec3L<W> wi = gather3<W>(p.angular_velocity, blk.i);
-            const Vec3L<W> wj = gather3<W>(p.angular_velocity, blk.j);
-            const Vec3L<W> spin{wj.x - wi.x, wj.y - wi.y, wj.z - wi.z};
-            const Real damper = c_axial * axial_rate;
-            force = {force.x + damper * kin.axis.x, force.y + damper * kin.axis.y, force.z + damper * kin.axis.z};
-            torque_i = {torque_i.x + c_rot * spin.x, torque_i.y + c_rot * spin.y, torque_i.z + c_rot * spin.z};
-            torque_j = {torque_j.x - c_rot * spin.x, torque_j.y - c_rot * spin.y, torque_j.z - c_rot * spin.z};
-        }
-        // A full block with every bond on the lane path (the common case) is stored in contiguous runs.
-        static_assert(W <= 8, "the broken flags of a block are read as one 64-bit word");
-        std::uint64_t broken_bytes = 0;
-        if (blk.count == W) {
-            __builtin_memcpy(&broken_bytes, b.broken + blk.k[0], W);
-        }
-        if (blk.count == W && broken_bytes == 0 && !anyLane(~kin.in_range) && !anyLane(slipping)) {
-            constexpr auto lanes = std::make_index_sequence<W>{};
-            joinRun3<W>(b.force + 3 * blk.k[0], force, lanes);
-            joinRun3<W>(b.torque_i + 3 * blk.k[0], torque_i, lanes);
-            joinRun3<W>(b.torque_j + 3 * blk.k[0], torque_j, lanes);
-            return;
-        }
-        for (int l = 0; l < blk.count; ++l) {
-            const std::size_t k = blk.k[l];
-            if (b.broken[k]) {
-                store3(b.force, k, Vec3::Zero());
-                store3(b.torque_i, k, Vec3::Zero());
-                store3(b.torque_j, k, Vec3::Zero());
-            } else if (kin.in_range[l] == 0) {
-                scalarBond<Viscous, Densify>(b, p, pass, k, nullptr);
-            } else if (slipping[l] != 0) {
-                const BeamKinematics lane = kin.lane(l);
-                scalarBond<Viscous, Densify>(b, p, pass, k, &lane);
-            } else {
-                storeLane(b.force, k, force, l);
-                storeLane(b.torque_i, k, torque_i, l);
-                storeLane(b.torque_j, k, torque_j, l);
-            }
+            storeLane(b.force, k, force, l);
+            storeLane(b.torque_i, k, torque_i, l);
+            storeLane(b.torque_j, k, torque_j, l);
         }
     }
 }
@@ -694,12 +692,7 @@ void beamGatherLanes(const BondView& b, const ParticleView& p, const detail::Bea
             }
             if (pass.weight != nullptr) { // weightBondLoads on the tile
                 for (std::size_t k = k0; k < k1; ++k) {
-                    const double w = pass.weight[k];
-                    for (std::size_t c = 3 * k; c < 3 * k + 3; ++c) {
-                        b.force[c] *= w;
-                        b.torque_i[c] *= w;
-                        b.torque_j[c] *= w;
-                    }
+                    weightBondLoad(b, pass.weight, k);
                 }
             }
             for (; q < q_end && static_cast<std::size_t>(inc.ready[q]) <= k1; ++q) {

@@ -64,13 +64,24 @@ inline void gatherParticle(const IncidenceView& inc, const BondView& b, const Pa
 /// Sets each particle's force and torque to the sum of its bonds' loads (CSR order). Overwrites.
 void gatherBondLoads(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles);
 
+/// Bond k's loads times weight[k] (the coupling's α_d at mid-bond): the body of weightBondLoads
+/// (kernels/coupling_kernels.hpp), also run tile by tile by the fused sweep.
+inline void weightBondLoad(const BondView& b, const double* weight, std::size_t k) {
+    const double w = weight[k];
+    for (std::size_t c = 3 * k; c < 3 * k + 3; ++c) {
+        b.force[c] *= w;
+        b.torque_i[c] *= w;
+        b.torque_j[c] *= w;
+    }
+}
+
 /// The effects a bond pass includes: each absent one costs nothing.
 struct BondEffects {
     const BondViscousDamping* viscous = nullptr; ///< bond-viscous dashpots
     const DensificationLaw* law = nullptr;       ///< the spring-slider (with `state`)
     const DensificationView* state = nullptr;
-    const double* weight =
-        nullptr; ///< per-bond factor on the loads before the gather (coupling: α_d at mid-bond)
+    /// Per-bond factor on the loads before the gather (coupling: α_d at mid-bond).
+    const double* weight = nullptr;
 };
 
 /// The bond forces of a step in one sweep: the beam loads (computeBeamLoads with the effects), the weights,

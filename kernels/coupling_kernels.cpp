@@ -1,18 +1,12 @@
 #include "kernels/coupling_kernels.hpp"
 
+#include "kernels/bond_kernels.hpp"
 #include "kernels/parallel.hpp"
 
 namespace vitrum {
 
 void weightBondLoads(const BondView& b, const double* weight) {
-    parallelFor("coupling.weight_bonds", b.n, [&](std::size_t k) {
-        const double w = weight[k];
-        for (std::size_t c = 3 * k; c < 3 * k + 3; ++c) {
-            b.force[c] *= w;
-            b.torque_i[c] *= w;
-            b.torque_j[c] *= w;
-        }
-    });
+    parallelFor("coupling.weight_bonds", b.n, [&](std::size_t k) { weightBondLoad(b, weight, k); });
 }
 
 void weightContactLoads(const ContactPairView& pairs, const BridgeZone& zone, const double* x0) {
