@@ -1,6 +1,7 @@
 #include "io/sample_cache.hpp"
 
 #include <filesystem>
+#include <sstream>
 
 #include "io/packing_io.hpp"
 #include "solver/errors.hpp"
@@ -29,6 +30,19 @@ SampleSource loadOrBuildSample(const Scene& scene) {
                              "(a " + scene.sample.lattice + " lattice is rebuilt exactly in no time)");
         }
         return {buildSample(scene), "lattice", std::nullopt};
+    }
+    if (!scene.sample.cut_from.empty()) {
+        const SampleParams& s = scene.sample;
+        Packing cut;
+        try {
+            cut = cutPacking(loadPacking(s.cut_from), s, s.cut_offset);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(scene.source_path + ": key 'sample.cut_from': " + e.what());
+        }
+        std::ostringstream origin;
+        origin << "cut from " << s.cut_from << " at offset (" << s.cut_offset.x() << ", " << s.cut_offset.y()
+               << ", " << s.cut_offset.z() << ") um";
+        return {{std::move(cut.sample), std::move(cut.bond_pairs)}, origin.str(), cut.report};
     }
     const PackingParams wanted = packingParamsFor(scene.sample, scene.seed);
     if (!path.empty() && fs::exists(path)) {

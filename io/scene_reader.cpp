@@ -563,7 +563,8 @@ void SceneParser::readEffects(const TableReader& top, Scene& scene) {
 void SceneParser::readSample(const TableReader& top, Scene& scene) const {
     const TableReader sample = top.subtable("sample");
     sample.allowOnly({"lattice", "shape", "size", "radius", "height", "particles", "bond_tolerance",
-                      "radius_dispersion", "packing_fraction", "coordination", "file"});
+                      "radius_dispersion", "packing_fraction", "coordination", "file", "cut_from",
+                      "cut_offset"});
     SampleParams& p = scene.sample;
     p.lattice = sample.choice("lattice", {"sc", "fcc", "random"}).value_or(p.lattice);
     p.shape = sample.choice("shape", {"box", "cylinder", "sphere", "hemisphere"}).value_or(p.shape);
@@ -585,6 +586,45 @@ void SceneParser::readSample(const TableReader& top, Scene& scene) const {
     p.packing_fraction = sample.number("packing_fraction", Range{0.3, 0.70}).value_or(p.packing_fraction);
     p.coordination = sample.number("coordination", Range{3.0, 12.0}).value_or(p.coordination);
     p.file = sample.string("file").value_or(p.file);
+    if (auto from = sample.string("cut_from")) {
+        const toml::node* node = sample.find("cut_from");
+        if (p.lattice != "random") {
+            fail(node->source(),
+                 "key 'sample.cut_from': a cut takes the particles of a random packing file; expected "
+                 "lattice = \"random\", got \"" +
+                     p.lattice + "\"");
+        }
+        // The packing comes from the file: the packer's keys would be silently unused, so they are refused.
+        for (const char* key : {"particles", "bond_tolerance", "radius_dispersion", "packing_fraction",
+                                "coordination", "file"}) {
+            if (const toml::node* given = sample.find(key)) {
+                fail(given->source(),
+                     "key '" + sample.dotted(key) +
+                         "': not used with sample.cut_from (the "
+                         "particles, their bonds and the packing parameters are the source file's); "
+                         "remove it, or replace the whole table: --set 'sample={...}'");
+            }
+        }
+        std::filesystem::path file(*from);
+        if (file.is_relative() && !isOverride(node->source())) {
+            file = std::filesystem::path(scene.source_path).parent_path() / file;
+        }
+        // Absolute, so that the resolved scene written beside the results reads back the same file.
+        p.cut_from = std::filesystem::absolute(file).lexically_normal().string();
+        if (!std::filesystem::exists(p.cut_from)) {
+            fail(node->source(), "key 'sample.cut_from': no packing file at " + p.cut_from +
+                                     " (make it with vitrum pack, or run the scene that caches it)");
+        }
+    }
+    if (auto offset = sample.vector3("cut_offset", kAny, scene.units.length)) {
+        if (p.cut_from.empty()) {
+            fail(sample.find("cut_offset")->source(),
+                 "key 'sample.cut_offset': used only with sample.cut_from");
+        }
+        for (int i = 0; i < 3; ++i) {
+            p.cut_offset[i] = toInternal((*offset)[i], length_);
+        }
+    }
 }
 
 void SceneParser::readMaterial(const TableReader& top, Scene& scene) const {
@@ -1366,11 +1406,16 @@ std::string resolvedSceneToml(const Scene& scene) {
     out << "[sample]\nlattice = " << tomlString(s.lattice) << "\nshape = " << tomlString(s.shape)
         << "\nsize = " << fileVec(s.size, length) << " # " << u.length
         << "\nradius = " << fileFloat(s.radius, length) << " # " << u.length
-        << "\nheight = " << fileFloat(s.height, length) << " # " << u.length
-        << "\nparticles = " << s.particles << "\nbond_tolerance = " << tomlFloat(s.bond_tolerance)
-        << "\nradius_dispersion = " << tomlFloat(s.radius_dispersion)
-        << "\npacking_fraction = " << tomlFloat(s.packing_fraction)
-        << "\ncoordination = " << tomlFloat(s.coordination);
+        << "\nheight = " << fileFloat(s.height, length) << " # " << u.length;
+    if (!s.cut_from.empty()) {
+        out << "\ncut_from = " << tomlString(s.cut_from) << "\ncut_offset = " << fileVec(s.cut_offset, length)
+            << " # " << u.length;
+    } else {
+        out << "\nparticles = " << s.particles << "\nbond_tolerance = " << tomlFloat(s.bond_tolerance)
+            << "\nradius_dispersion = " << tomlFloat(s.radius_dispersion)
+            << "\npacking_fraction = " << tomlFloat(s.packing_fraction)
+            << "\ncoordination = " << tomlFloat(s.coordination);
+    }
     if (!s.file.empty()) {
         out << "\nfile = " << tomlString(s.file);
     }

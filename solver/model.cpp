@@ -35,6 +35,11 @@ std::size_t Model::setIndex(const std::string& name) const {
 
 BondedSample buildSample(const Scene& scene) {
     BondedSample out;
+    if (!scene.sample.cut_from.empty()) {
+        // Reading the source packing is the io layer's (io/sample_cache.hpp loadOrBuildSample).
+        throw InputError(scene.source_path + ": key 'sample.cut_from': a cut sample is read through "
+                                             "loadOrBuildSample, not packed");
+    }
     if (scene.sample.lattice == "random") {
         PackingParams params = packingParamsFor(scene.sample, scene.seed);
         Packing packing;

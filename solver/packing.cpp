@@ -870,6 +870,50 @@ double regionPackingFraction(const SampleParams& shape, double margin, const std
     return regionFraction(shape, margin, interiorVolume(shape, margin), x.data(), radii.data(), radii.size());
 }
 
+Packing cutPacking(const Packing& source, const SampleParams& shape, const Vec3& offset) {
+    const std::vector<Vec3>& x = source.sample.centres;
+    std::vector<std::int32_t> index(x.size(), -1); // source particle → kept particle, −1 if cut away
+    Packing out;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const Vec3 y = x[i] - offset;
+        const double margin = (1.0 - source.params.overlap_tolerance) * source.sample.radii[i];
+        if (insideShape(shape, y) && distanceToBoundary(shape, y) >= margin) {
+            index[i] = static_cast<std::int32_t>(out.sample.centres.size());
+            out.sample.centres.push_back(y);
+            out.sample.radii.push_back(source.sample.radii[i]);
+        }
+    }
+    if (out.sample.centres.size() < 2) {
+        throw std::invalid_argument("the cut keeps " + std::to_string(out.sample.centres.size()) +
+                                    " particle(s) of the source packing's " + std::to_string(x.size()) +
+                                    "; expected at least 2 (is the offset inside the source?)");
+    }
+    // Source pairs are sorted with i < j; the kept indices keep the source order, so the filtered pairs are
+    // too.
+    for (const auto& [a, b] : source.bond_pairs) {
+        if (index[a] >= 0 && index[b] >= 0) {
+            out.bond_pairs.emplace_back(index[a], index[b]);
+        }
+    }
+    out.params = source.params;
+    out.params.shape = shape.shape;
+    out.params.size = shape.size;
+    out.params.radius = shape.radius;
+    out.params.height = shape.height;
+    out.params.particles = static_cast<long>(out.sample.centres.size());
+    out.sample.spacing = source.sample.spacing;
+    out.sample.shape_volume = shapeVolume(shape);
+    out.report = analysePacking(out.params, out.sample.centres, out.sample.radii, out.bond_pairs);
+    out.report.target_region = source.report.target_region;
+    out.report.gap_tolerance = source.report.gap_tolerance;
+    out.report.bonds_added_for_min = source.report.bonds_added_for_min;
+    out.report.iterations = source.report.iterations;
+    out.report.neighbour_builds = source.report.neighbour_builds;
+    out.report.radius_rescales = source.report.radius_rescales;
+    out.report.seconds = source.report.seconds;
+    return out;
+}
+
 Packing packRandom(const PackingParams& params) {
     const auto start = std::chrono::steady_clock::now();
     validatePackingParams(params);

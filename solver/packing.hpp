@@ -145,6 +145,21 @@ struct Packing {
 /// for bad parameters (validatePackingParams) and RuntimeFailure when the target cannot be reached.
 Packing packRandom(const PackingParams& params);
 
+/// The part of `source` inside another shape: the particles whose sphere lies inside the shape placed at
+/// `offset` (centre x inside, at distance ≥ (1 − overlap_tolerance) R from its boundary, as the packer's
+/// walls leave them), moved by −offset so that the shape sits at its usual place (a hemisphere's flat face at
+/// z = 0 about the origin), in the source's (Morton) order, with every source bond between two of them. So a
+/// small sample and a large one can share the microstructure where they overlap:
+/// examples/vickers-0.1N-box.toml is the DEM-only reference on the coupled model's whole 30 µm box, and a
+/// hemisphere cut from it at the centre of its top face gives the coupled and the clamped-dome runs the same
+/// particles under the tool. Whole spheres, as in a packed sample: the coupling needs every particle centre
+/// at least about R inside the zone's outer edge, where the DEM weight α_d → 0 (reference note
+/// cnem-coupling.md §4.3). Nothing moves and no bond is added: particles on the cut lose their bonds to the
+/// outside. The params are the source's packing parameters with the shape's geometry and the kept count; the
+/// report is analysePacking's for the new shape (the packer's own fields, gap_tolerance and the counters,
+/// stay the source's). Throws std::invalid_argument if fewer than 2 centres lie inside.
+Packing cutPacking(const Packing& source, const SampleParams& shape, const Vec3& offset);
+
 /// Result of the bond selection.
 struct BondSelection {
     std::vector<std::pair<std::int32_t, std::int32_t>> pairs; ///< i < j, sorted

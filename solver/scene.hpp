@@ -34,6 +34,11 @@ struct SampleParams {
     double packing_fraction = 0.63;///< random: target packing fraction of the interior
     double coordination = 6.2;     ///< random: target mean coordination
     std::string file;              ///< random: packing cache (HDF5); loaded if present and matching, else written
+    /// random: instead of packing, cut the shape out of this packing file (solver/packing.hpp cutPacking;
+    /// resolved path). The particles, bonds and packing parameters are then the source's: the keys above
+    /// from `particles` to `file` are not used and the scene reader refuses them.
+    std::string cut_from;
+    Vec3 cut_offset = Vec3::Zero(); ///< µm: where the shape's origin lies in the cut_from packing
 };
 
 /// Micro-parameters of the cohesive beams (paper Table 1) and the particle density.

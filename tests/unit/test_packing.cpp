@@ -122,6 +122,61 @@ TEST(Packing, CountsContainmentOrderAndBondsForEveryShape) {
     }
 }
 
+// A hemisphere cut from a box at the centre of its top face: exactly the box particles whose sphere lies in
+// the hemisphere (up to the packer's overlap tolerance), moved by −offset, in the box's order, with exactly
+// the box bonds between two kept particles (counted independently: no bond lost inside, none added); cutting
+// the box by itself gives it back.
+TEST(Packing, CutKeepsTheParticlesInsideTheShapeWithTheirBonds) {
+    PackingParams box = smallParams("box", 1500);
+    box.size = Vec3(6.0, 6.0, 4.0);
+    const Packing source = packRandom(box);
+    SampleParams hemisphere;
+    hemisphere.shape = "hemisphere";
+    hemisphere.radius = 2.5;
+    const Vec3 offset(3.0, 3.0, 4.0);
+    const Packing cut = cutPacking(source, hemisphere, offset);
+
+    std::vector<std::int32_t> kept; // source indices, in order
+    for (std::size_t i = 0; i < source.sample.centres.size(); ++i) {
+        const Vec3 x = source.sample.centres[i] - offset;
+        const double margin = (1.0 - box.overlap_tolerance) * source.sample.radii[i];
+        if (2.5 - x.norm() >= margin && -x.z() >= margin) {
+            kept.push_back(static_cast<std::int32_t>(i));
+        }
+    }
+    ASSERT_GT(kept.size(), 100u);
+    ASSERT_LT(kept.size(), source.sample.centres.size());
+    ASSERT_EQ(cut.sample.centres.size(), kept.size());
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+        const auto i = static_cast<std::size_t>(kept[k]);
+        EXPECT_EQ(cut.sample.centres[k], source.sample.centres[i] - offset) << k;
+        EXPECT_EQ(cut.sample.radii[k], source.sample.radii[i]) << k;
+    }
+    using PairSet = std::set<std::pair<std::int32_t, std::int32_t>>;
+    PairSet inside; // source bonds with both ends kept, as cut indices
+    for (const auto& [i, j] : source.bond_pairs) {
+        const auto a = std::lower_bound(kept.begin(), kept.end(), i);
+        const auto b = std::lower_bound(kept.begin(), kept.end(), j);
+        if (a != kept.end() && *a == i && b != kept.end() && *b == j) {
+            inside.emplace(static_cast<std::int32_t>(a - kept.begin()),
+                           static_cast<std::int32_t>(b - kept.begin()));
+        }
+    }
+    EXPECT_EQ(PairSet(cut.bond_pairs.begin(), cut.bond_pairs.end()), inside);
+    EXPECT_TRUE(std::is_sorted(cut.bond_pairs.begin(), cut.bond_pairs.end()));
+    EXPECT_EQ(cut.params.shape, "hemisphere");
+    EXPECT_EQ(cut.params.radius, 2.5);
+    EXPECT_EQ(cut.params.particles, static_cast<long>(kept.size()));
+    EXPECT_EQ(cut.params.seed, box.seed);
+    EXPECT_EQ(cut.report.particles, static_cast<long>(kept.size()));
+    EXPECT_EQ(cut.report.bonds, static_cast<long>(inside.size()));
+    EXPECT_DOUBLE_EQ(cut.sample.shape_volume, shapeVolume(hemisphere));
+
+    const Packing whole = cutPacking(source, shapeParams(source.params), Vec3::Zero());
+    EXPECT_TRUE(sameBytes(whole, source));
+    EXPECT_THROW(cutPacking(source, hemisphere, Vec3(100.0, 0.0, 0.0)), std::invalid_argument);
+}
+
 TEST(Packing, BadInputIsRejectedWithAClearMessage) {
     auto rejects = [](PackingParams p, const std::string& needle) {
         try {

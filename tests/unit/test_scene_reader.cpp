@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "io/packing_io.hpp"
+#include "io/sample_cache.hpp"
 #include "io/scene_reader.hpp"
 #include "io/units.hpp"
 #include "solver/errors.hpp"
@@ -124,6 +126,9 @@ void expectSameScene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.sample.height, b.sample.height);
     EXPECT_EQ(a.sample.particles, b.sample.particles);
     EXPECT_EQ(a.sample.bond_tolerance, b.sample.bond_tolerance);
+    EXPECT_EQ(a.sample.file, b.sample.file);
+    EXPECT_EQ(a.sample.cut_from, b.sample.cut_from);
+    expectSameVec(a.sample.cut_offset, b.sample.cut_offset);
     EXPECT_EQ(a.material.density, b.material.density);
     EXPECT_EQ(a.material.beam_young, b.material.beam_young);
     EXPECT_EQ(a.material.beam_poisson, b.material.beam_poisson);
@@ -375,6 +380,57 @@ TEST(SceneReader, ReadsFilesAndReportsMissingOnes) {
     } catch (const InputError& e) {
         expectMentions(e.what(), {"cannot open scene file '" + (dir / "absent.toml").string() + "'"});
     }
+    std::filesystem::remove_all(dir);
+}
+
+// [sample] cut_from: the path is resolved against the scene file and stored absolute (so the resolved scene
+// reads back the same file), the offset is converted like any length, the packer's keys beside it are
+// refused with line and key, and loadOrBuildSample returns the cut (cutPacking's count, not a new packing).
+TEST(SceneReader, SampleCutFromAPackingFile) {
+    const std::filesystem::path dir = testing::freshTempDir("scene-cut");
+    PackingParams box;
+    box.shape = "box";
+    box.size = Vec3(4.0, 4.0, 3.0);
+    box.particles = 600;
+    savePacking((dir / "box.h5").string(), packRandom(box));
+    const std::string head = std::string(kMinimal) +
+                             "[units]\nlength = \"mm\"\n[sample]\nlattice = \"random\"\n"
+                             "shape = \"hemisphere\"\nradius = 0.0015\ncut_from = \"box.h5\"\n";
+    const std::string path = (dir / "s.toml").string();
+    std::ofstream(path) << head << "cut_offset = [0.002, 0.002, 0.003]\n";
+    const Scene scene = readScene(path);
+    EXPECT_EQ(scene.sample.cut_from, std::filesystem::absolute(dir / "box.h5").lexically_normal().string());
+    expectSameVec(scene.sample.cut_offset, Vec3(2.0, 2.0, 3.0)); // mm → µm
+    expectSameScene(scene, parseScene(resolvedSceneToml(scene), path));
+
+    const SampleSource cut = loadOrBuildSample(scene);
+    const Packing direct =
+        cutPacking(loadPacking((dir / "box.h5").string()), scene.sample, Vec3(2.0, 2.0, 3.0));
+    EXPECT_EQ(cut.sample.sample.centres, direct.sample.centres);
+    EXPECT_EQ(cut.sample.pairs, direct.bond_pairs);
+    EXPECT_LT(cut.sample.sample.centres.size(), 600u);
+    EXPECT_NE(cut.origin.find("cut from"), std::string::npos) << cut.origin;
+
+    auto errorIn = [&](const std::string& text) -> std::string {
+        std::ofstream(path) << text;
+        try {
+            readScene(path);
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "no InputError";
+    };
+    expectMentions(errorIn(head + "particles = 500\n"),
+                   {path + ":10:13:", "key 'sample.particles': not used with sample.cut_from"});
+    expectMentions(errorIn(head + "file = \"cache.h5\"\n"),
+                   {"key 'sample.file': not used with sample.cut_from"});
+    const std::string absent =
+        std::string(kMinimal) + "[sample]\nlattice = \"random\"\ncut_from = \"none.h5\"\n";
+    expectMentions(errorIn(absent), {"key 'sample.cut_from': no packing file at", "none.h5"});
+    expectMentions(errorIn(std::string(kMinimal) + "[sample]\ncut_from = \"box.h5\"\n"),
+                   {"key 'sample.cut_from'", "expected lattice = \"random\", got \"fcc\""});
+    expectMentions(errorIn(std::string(kMinimal) + "[sample]\ncut_offset = [1, 2, 3]\n"),
+                   {"key 'sample.cut_offset': used only with sample.cut_from"});
     std::filesystem::remove_all(dir);
 }
 

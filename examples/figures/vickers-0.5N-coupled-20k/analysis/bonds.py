@@ -2,7 +2,19 @@
 """Per-bond axial stress and slip from a vitrum checkpoint (state.h5; needs h5py, numpy). Issue 7, 0.5 N zone study.
 sigma_c = -E (eps - eps_r), eps = (l - l0)/l0 (kernels/beam.hpp: N = E S (l - l0)/l0, densification: N = E S (eps - eps_r)).
 Positions of bonds: reference (initial) midpoints."""
-import h5py, numpy as np, sys, csv, bisect
+import h5py, numpy as np, sys, csv, bisect, os, tomllib
+
+def frame(path):
+    """(x, y) of the tool's axis and z of the sample's top face, from the resolved_scene.toml beside the
+    checkpoint: (0, 0, 0) for the hemisphere scenes, (15, 15, 30) um for the 30 um box of
+    examples/vickers-0.1N-box.toml."""
+    scene = os.path.join(os.path.dirname(os.path.abspath(path)), 'resolved_scene.toml')
+    if not os.path.exists(scene):
+        return 0.0, 0.0, 0.0
+    s = tomllib.load(open(scene, 'rb'))
+    ind = s.get('indenter', {}); smp = s.get('sample', {})
+    top = smp['size'][2] if smp.get('shape') == 'box' else 0.0
+    return ind.get('axis_x', 0.0), ind.get('axis_y', 0.0), top
 
 def load(path):
     h = h5py.File(path, 'r')
@@ -17,7 +29,8 @@ def load(path):
     eps = (l - l0) / l0
     d['sigma_c'] = -E * (eps - er)
     d['slip'] = slip
-    m0 = 0.5 * (x0[i] + x0[j]); d['m0'] = m0
+    ax, ay, top = frame(path)
+    m0 = 0.5 * (x0[i] + x0[j]) - np.array([ax, ay, top]); d['m0'] = m0
     d['R'] = np.linalg.norm(m0, axis=1); d['depth'] = -m0[:, 2]; d['rho'] = np.hypot(m0[:, 0], m0[:, 1])
     d['i'] = i; d['j'] = j; d['broken'] = B['broken'][...].ravel()
     d['x'] = x; d['x0'] = x0

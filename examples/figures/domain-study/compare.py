@@ -1,0 +1,70 @@
+#!/usr/bin/python3
+"""Tables of the domain study (run.sh): for 0.1 N and 0.5 N, the clamped dome, the coupled model and the
+DEM-only box, all on the box's microstructure under the tool, with their differences from the box.
+
+Usage: compare.py OUT [--markdown]      (OUT as given to run.sh; needs h5py and numpy: /usr/bin/python3)
+
+Columns: the summary's V-, V+, V_d, D, L (each run's own far-field annulus: 7.8-10.2 um for the hemispheres,
+9.75-12.75 um for the box); V-, V+ again with the far field of all three on 7.8-10.2 um and the integrals over
+r < 7.8 um (vplus.py --annulus); the maximum depth under load and the tool's work; the densified bonds and
+their slip volume; and the densified zone's shape from the bonds' slip volumes (shape.py: depth and lateral
+radius holding 90 % of it, and the slip-volume-weighted mean depth and radius; reference midpoints, from the
+top face's centre).
+"""
+import json, os, sys
+import numpy as np
+
+here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(here, "..", "vickers-0.1N-coupled-20k", "analysis"))
+sys.path.insert(0, os.path.join(here, "..", "vickers-0.5N-coupled-20k", "analysis"))
+import vplus  # noqa: E402
+from bonds import load as load_bonds  # noqa: E402
+import h5py  # noqa: E402
+
+
+def shape(state):
+    d = load_bonds(state)
+    h = h5py.File(state, "r")
+    v = np.pi * h["bonds/section_radius"][...].ravel() ** 2 * h["bonds/rest_length"][...].ravel() * d["slip"]
+    s = v > 0
+    w, depth, rho = v[s], d["depth"][s], d["rho"][s]
+
+    def q(x, p):
+        o = np.argsort(x)
+        return x[o][np.searchsorted(np.cumsum(w[o]) / w.sum(), p)]
+
+    return dict(slip=w.sum(), d90=q(depth, 0.9), r90=q(rho, 0.9), dmean=np.average(depth, weights=w),
+                rmean=np.average(rho, weights=w))
+
+
+def row(run):
+    m = json.load(open(run + "/summary.json"))["measurements"]
+    _, change, cell, _ = vplus.load(run)
+    vp, vm, _ = vplus.annulus_volumes(change, cell, 7.8, 10.2)
+    r = dict(Vm=m["V_minus_um3"], Vp=m["V_plus_um3"], Vd=m["V_d_um3"], D=m["depth_um"], L=m["diagonal_um"],
+             Vm78=vm, Vp78=vp, hmax=m["max_depth_um"], W=m["tool_work_nJ"], nd=m["densified_bonds"],
+             F=m["max_force_N"])
+    r.update(shape(run + "/state.h5"))
+    return r
+
+
+cols = [("F", "F_max N", 4), ("Vm", "V-", 3), ("Vp", "V+", 3), ("Vd", "V_d", 3), ("D", "D", 3), ("L", "L", 2),
+        ("Vm78", "V- (7.8)", 3), ("Vp78", "V+ (7.8)", 3), ("hmax", "max depth", 3), ("W", "work nJ", 2),
+        ("nd", "densified bonds", 0), ("slip", "slip volume", 3), ("d90", "depth 90 %", 2),
+        ("r90", "radius 90 %", 2), ("dmean", "mean depth", 2), ("rmean", "mean radius", 2)]
+out = sys.argv[1]
+for force in ["0.1N", "0.5N"]:
+    runs = {k: f"{out}/{k}-{force}" for k in ["dome", "coupled", "box"]}
+    runs = {k: v for k, v in runs.items() if os.path.exists(v + "/summary.json")}
+    if not runs:
+        continue
+    rows = {k: row(v) for k, v in runs.items()}
+    print(f"\n{force} (um3, um)\n| run | " + " | ".join(c[1] for c in cols) + " |")
+    print("|---" * (len(cols) + 1) + "|")
+    for k, r in rows.items():
+        print(f"| {k} | " + " | ".join(f"{r[c]:.{p}f}" for c, _, p in cols) + " |")
+    if "box" in rows:
+        for k, r in rows.items():
+            if k != "box":
+                b = rows["box"]
+                print(f"| {k} vs box | " + " | ".join(f"{100 * (r[c] / b[c] - 1):+.1f} %" for c, _, _ in cols) + " |")

@@ -1,0 +1,40 @@
+#!/bin/bash
+# Domain study of issue 7 (APP-1, Fig 14): the coupled DEM-CNEM model against the DEM-only reference on its
+# whole 30 um box and against the clamped 12 um dome, all three on the same microstructure under the tool
+# (the hemispheres are cut from the box's packing), at 0.1 N and 0.5 N.
+#
+# Usage (from the repository root, after make build): examples/figures/domain-study/run.sh [OUT] [THREADS]
+#   OUT defaults to out/domain-study, THREADS to 2. Six runs, one after the other; ~50 min on 2 cores.
+#   Then compare.py OUT prints the tables of examples/README.md ("The coupled model against the whole box").
+# Programme: 100 m/s in and out, 5 ns hold; 0.1 N relaxes 60 ns to rest (kinetic_tolerance 1e-12), 0.5 N as
+# the reduced 0.5 N pair of examples/README.md (coupled: weighted zone check, 5 ns relax), all three with the
+# coupled scene's 0.5 % slow band.
+set -euo pipefail
+out=${1:-out/domain-study}
+threads=${2:-2}
+vitrum=${VITRUM:-build/vitrum}
+mkdir -p "$out"
+cut=(--set 'sample={lattice="random", shape="hemisphere", radius=12.0,
+      cut_from="examples/packings/box-30um-150760-seed1.h5", cut_offset=[15.0, 15.0, 30.0]}')
+fast=(--set 'stage[0].speed=0.1' --set 'stage[2].speed=0.1' --set 'stage[1].duration=5.0'
+      --set time.duration=200.0)
+rest=(--set 'stage[3].duration=60.0' --set 'stage[3].kinetic_tolerance=1e-12')
+short=(--set 'stage[3].duration=30.0')
+half=(--set 'stage[0].until_force=0.5' --set 'stage[0].slow_band=0.005')
+run() {
+    local name=$1
+    shift
+    echo "== $name: $vitrum run $*"
+    "$vitrum" run "$@" --threads "$threads" --out "$out/$name" > "$out/$name.log" 2>&1 ||
+        { echo "$name failed: see $out/$name.log"; exit 1; }
+    tail -n 1 "$out/$name.log"
+}
+# The box first: it packs and caches the packing the hemispheres are cut from.
+run box-0.1N examples/vickers-0.1N-box.toml "${fast[@]}" "${rest[@]}"
+run dome-0.1N examples/vickers-0.1N.toml "${cut[@]}" "${fast[@]}" "${rest[@]}"
+run coupled-0.1N examples/vickers-0.1N-coupled.toml "${cut[@]}" "${fast[@]}" "${rest[@]}"
+run box-0.5N examples/vickers-0.1N-box.toml "${half[@]}" "${fast[@]}" "${short[@]}"
+run dome-0.5N examples/vickers-0.5N.toml "${cut[@]}" "${fast[@]}" "${short[@]}"
+run coupled-0.5N examples/vickers-0.5N-coupled.toml "${cut[@]}" "${fast[@]}" "${short[@]}" \
+    --set 'coupling.zone_check="weighted"' --set 'stage[3].duration=5.0'
+/usr/bin/python3 "$(dirname "$0")/compare.py" "$out"
