@@ -6,12 +6,13 @@ Usage: compare.py OUT [--markdown]      (OUT as given to run.sh; needs h5py and 
 
 Columns: the summary's V-, V+, V_d, D, L (each run's own far-field annulus: 7.8-10.2 um for the hemispheres,
 9.75-12.75 um for the box); V-, V+ again with the far field of all three on 7.8-10.2 um and the integrals over
-r < 7.8 um (vplus.py --annulus); the maximum depth under load and the tool's work; the densified bonds and
+r < 7.8 um (vplus.py --annulus); L with the print's edge at 5 % of D (diagonal()); the maximum depth under
+load and the tool's work; the densified bonds and
 their slip volume; and the densified zone's shape from the bonds' slip volumes (shape.py: depth and lateral
 radius holding 90 % of it, and the slip-volume-weighted mean depth and radius; reference midpoints, from the
 top face's centre).
 """
-import json, os, sys
+import csv, json, os, sys
 import numpy as np
 
 here = os.path.dirname(os.path.abspath(__file__))
@@ -22,12 +23,18 @@ from bonds import load as load_bonds  # noqa: E402
 import h5py  # noqa: E402
 
 
-def shape(state):
+def slip_volumes(state):
+    """Slip volume pi r~^2 l0 e_p of every slipped bond (um3), its reference midpoint's depth and lateral
+    distance."""
     d = load_bonds(state)
     h = h5py.File(state, "r")
     v = np.pi * h["bonds/section_radius"][...].ravel() ** 2 * h["bonds/rest_length"][...].ravel() * d["slip"]
     s = v > 0
-    w, depth, rho = v[s], d["depth"][s], d["rho"][s]
+    return v[s], d["depth"][s], d["rho"][s]
+
+
+def shape(state):
+    w, depth, rho = slip_volumes(state)
 
     def q(x, p):
         o = np.argsort(x)
@@ -37,34 +44,64 @@ def shape(state):
                 rmean=np.average(rho, weights=w))
 
 
+def diagonal(run, share):
+    """Print diagonal with the edge where the print's depth has fallen to `share` of D (the summary's L takes
+    0.1 %, below the sub-nm relief of the residual surface at 0.1 N): along the four half-diagonals from the
+    axis, the first rise of the far-field-corrected change above -share D, bilinear on the imprint grid."""
+    from scipy.interpolate import RegularGridInterpolator
+    m = json.load(open(run + "/summary.json"))["measurements"]
+    ax, ay = vplus.axis(run)
+    rows = [(float(r["x_um"]), float(r["y_um"]), float(r["dh_um"]))
+            for r in csv.DictReader(open(run + "/imprint.csv"))]
+    xs, ys = sorted({r[0] for r in rows}), sorted({r[1] for r in rows})
+    grid = np.full((len(xs), len(ys)), np.nan)
+    ix, iy = {x: i for i, x in enumerate(xs)}, {y: i for i, y in enumerate(ys)}
+    for x, y, v in rows:
+        grid[ix[x], iy[y]] = v
+    f = RegularGridInterpolator((xs, ys), grid, bounds_error=False)
+    level, half = -share * m["depth_um"], []
+    for ux, uy in [(1, 1), (-1, 1), (-1, -1), (1, -1)]:
+        t = np.arange(0.0, 7.8, 0.01)
+        v = f(np.column_stack([ax + t * ux / np.sqrt(2), ay + t * uy / np.sqrt(2)]))
+        up = np.nonzero((v[:-1] < level) & (v[1:] >= level))[0]
+        half.append(t[up[0]] + 0.01 * (level - v[up[0]]) / (v[up[0] + 1] - v[up[0]]) if len(up) else 0.0)
+    return 0.5 * sum(half)
+
+
 def row(run):
     m = json.load(open(run + "/summary.json"))["measurements"]
     _, change, cell, _ = vplus.load(run)
     vp, vm, _ = vplus.annulus_volumes(change, cell, 7.8, 10.2)
     r = dict(Vm=m["V_minus_um3"], Vp=m["V_plus_um3"], Vd=m["V_d_um3"], D=m["depth_um"], L=m["diagonal_um"],
              Vm78=vm, Vp78=vp, hmax=m["max_depth_um"], W=m["tool_work_nJ"], nd=m["densified_bonds"],
-             F=m["max_force_N"])
+             F=m["max_force_N"], L5=diagonal(run, 0.05))
     r.update(shape(run + "/state.h5"))
     return r
 
 
-cols = [("F", "F_max N", 4), ("Vm", "V-", 3), ("Vp", "V+", 3), ("Vd", "V_d", 3), ("D", "D", 3), ("L", "L", 2),
-        ("Vm78", "V- (7.8)", 3), ("Vp78", "V+ (7.8)", 3), ("hmax", "max depth", 3), ("W", "work nJ", 2),
-        ("nd", "densified bonds", 0), ("slip", "slip volume", 3), ("d90", "depth 90 %", 2),
-        ("r90", "radius 90 %", 2), ("dmean", "mean depth", 2), ("rmean", "mean radius", 2)]
-out = sys.argv[1]
-for force in ["0.1N", "0.5N"]:
-    runs = {k: f"{out}/{k}-{force}" for k in ["dome", "coupled", "box"]}
-    runs = {k: v for k, v in runs.items() if os.path.exists(v + "/summary.json")}
-    if not runs:
-        continue
-    rows = {k: row(v) for k, v in runs.items()}
-    print(f"\n{force} (um3, um)\n| run | " + " | ".join(c[1] for c in cols) + " |")
-    print("|---" * (len(cols) + 1) + "|")
-    for k, r in rows.items():
-        print(f"| {k} | " + " | ".join(f"{r[c]:.{p}f}" for c, _, p in cols) + " |")
-    if "box" in rows:
+def main():
+    cols = [("F", "F_max N", 4), ("Vm", "V-", 3), ("Vp", "V+", 3), ("Vd", "V_d", 3), ("D", "D", 3),
+            ("L", "L", 2), ("L5", "L (5 % D)", 2), ("Vm78", "V- (7.8)", 3), ("Vp78", "V+ (7.8)", 3),
+            ("hmax", "max depth", 3), ("W", "work nJ", 2), ("nd", "densified bonds", 0),
+            ("slip", "slip volume", 3), ("d90", "depth 90 %", 2), ("r90", "radius 90 %", 2),
+            ("dmean", "mean depth", 2), ("rmean", "mean radius", 2)]
+    out = sys.argv[1]
+    for force in ["0.1N", "0.5N"]:
+        runs = {k: f"{out}/{k}-{force}" for k in ["dome", "coupled", "box"]}
+        runs = {k: v for k, v in runs.items() if os.path.exists(v + "/summary.json")}
+        if not runs:
+            continue
+        rows = {k: row(v) for k, v in runs.items()}
+        print(f"\n{force} (um3, um)\n| run | " + " | ".join(c[1] for c in cols) + " |")
+        print("|---" * (len(cols) + 1) + "|")
         for k, r in rows.items():
-            if k != "box":
-                b = rows["box"]
-                print(f"| {k} vs box | " + " | ".join(f"{100 * (r[c] / b[c] - 1):+.1f} %" for c, _, _ in cols) + " |")
+            print(f"| {k} | " + " | ".join(f"{r[c]:.{p}f}" for c, _, p in cols) + " |")
+        for k, ref in [("dome", "box"), ("coupled", "box"), ("coupled", "dome")]:  # APP-1 is coupled vs dome
+            if k in rows and ref in rows:
+                r, b = rows[k], rows[ref]
+                diffs = " | ".join(f"{100 * (r[c] / b[c] - 1):+.1f} %" for c, _, _ in cols)
+                print(f"| {k} vs {ref} | {diffs} |")
+
+
+if __name__ == "__main__":
+    main()
