@@ -6,7 +6,7 @@
 # Usage (from the repository root, after make build):
 #   examples/figures/domain-study/run.sh [OUT] [THREADS] [SEED]
 #   OUT defaults to out/domain-study, THREADS to 2, SEED (the box packing's) to 1. Six runs, one after the
-#   other; ~35 min on 2 cores.
+#   other; ~35 min on 2 cores. A run whose summary.json exists is kept, so an interrupted study resumes.
 #   Then compare.py writes OUT/tables.md and zone_figure.py OUT/densified_zone_{0.1N,0.5N}.png (the tables and
 #   figures of examples/README.md, "The coupled model against the whole box"; seed 1's are in seed1/).
 # Programme: 100 m/s in and out, 5 ns hold; 0.1 N relaxes 60 ns to rest (kinetic_tolerance 1e-12), 0.5 N as
@@ -30,6 +30,10 @@ half=(--set 'stage[0].until_force=0.5' --set 'stage[0].slow_band=0.005')
 run() {
     local name=$1
     shift
+    if [ -f "$out/$name/summary.json" ]; then
+        echo "== $name: done before ($out/$name/summary.json), kept"
+        return
+    fi
     echo "== $name: $vitrum run $*"
     "$vitrum" run "$@" --threads "$threads" --out "$out/$name" > "$out/$name.log" 2>&1 ||
         { echo "$name failed: see $out/$name.log"; exit 1; }
