@@ -168,14 +168,15 @@ double cnemKineticEnergy(const CnemStateView& s) {
 }
 
 void cnemCundallDamping(std::size_t nodes, const double* velocity, const std::uint8_t* fixed, double alpha,
-                        double* force) {
+                        double* force, const double* unbalanced) {
+    const double* magnitude = unbalanced ? unbalanced : force;
     parallelFor("cnem.damping", nodes, [&](std::size_t i) {
         for (std::size_t c = 0; c < 3; ++c) {
             const std::size_t a = 3 * i + c;
             if (fixed[a])
                 continue;
             const double v = velocity[a];
-            force[a] -= alpha * std::abs(force[a]) * ((v > 0.0) - (v < 0.0));
+            force[a] -= alpha * std::abs(magnitude[a]) * ((v > 0.0) - (v < 0.0));
         }
     });
 }

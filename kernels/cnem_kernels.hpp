@@ -105,7 +105,8 @@ void cnemDrift(const CnemStateView& s, double dt);
 double cnemKineticEnergy(const CnemStateView& s);
 /// Cundall's local non-viscous damping of the nodal forces, f −= α |f| sign(v) per free DOF (the DEM's
 /// `cundallLocalDamping` on the continuum: a coupled run damps both models alike). Fixed DOFs untouched.
+/// `unbalanced` (3N), when given, sets the magnitude instead of `force` (as for cundallLocalDamping).
 void cnemCundallDamping(std::size_t nodes, const double* velocity, const std::uint8_t* fixed, double alpha,
-                        double* force);
+                        double* force, const double* unbalanced = nullptr);
 
 } // namespace vitrum

@@ -54,7 +54,8 @@ void drift(const ParticleView& p, double dt) {
     });
 }
 
-void cundallLocalDamping(const ParticleView& p, double alpha) {
+void cundallLocalDamping(const ParticleView& p, double alpha, const double* unbalanced) {
+    const double* magnitude = unbalanced ? unbalanced : p.force;
     parallelFor("damping.cundall", p.n, [&](std::size_t i) {
         if (p.flags[i] & kKinematic) {
             return; // not integrated: damping its force would only falsify the reaction a probe reads off it
@@ -63,7 +64,7 @@ void cundallLocalDamping(const ParticleView& p, double alpha) {
             const std::size_t k = 3 * i + c;
             const double v = p.velocity[k];
             const double w = p.angular_velocity[k];
-            p.force[k] -= alpha * std::abs(p.force[k]) * ((v > 0.0) - (v < 0.0));
+            p.force[k] -= alpha * std::abs(magnitude[k]) * ((v > 0.0) - (v < 0.0));
             p.torque[k] -= alpha * std::abs(p.torque[k]) * ((w > 0.0) - (w < 0.0));
         }
     });

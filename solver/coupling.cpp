@@ -315,9 +315,12 @@ void splitExternalLoads(Particles& particles, CnemModel& cnem, Bridge& bridge) {
                      particles.torque.data(), bridge.load_share.data(), cnem.force.data());
 }
 
-void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bridge) {
+namespace {
+
+/// The projection of §4.4 on any pair of DEM (3n) and CNEM (3N) fields: velocities, or accelerations.
+void projectOntoConstraint(Bridge& bridge, double* dem, double* cnem) {
     const BridgeView v = bridge.view();
-    bridgeMismatch(v, particles.velocity.data(), cnem.velocity.data(), bridge.mismatch.data());
+    bridgeMismatch(v, dem, cnem, bridge.mismatch.data());
     bridgeResidual(v, bridge.mismatch.data(), bridge.residual.data());
     const ScopedTimer timer("coupling.solve");
     const Eigen::Index K = static_cast<Eigen::Index>(v.multipliers);
@@ -329,9 +332,41 @@ void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bri
         for (Eigen::Index k = 0; k < K; ++k)
             bridge.lambda[3 * static_cast<std::size_t>(k) + c] = lam[k];
     }
-    bridgeCorrect(v, bridge.lambda.data(), bridge.particle_inverse_mass.data(),
-                  bridge.node_inverse_mass.data(), particles.velocity.data(), cnem.velocity.data(),
-                  bridge.lambda_at_particle.data());
+    bridgeCorrect(v, bridge.lambda.data(), bridge.particle_inverse_mass.data(), bridge.node_inverse_mass.data(),
+                  dem, cnem, bridge.lambda_at_particle.data());
+}
+
+} // namespace
+
+void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bridge) {
+    projectOntoConstraint(bridge, particles.velocity.data(), cnem.velocity.data());
+}
+
+void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge& bridge, std::vector<double>& dem,
+                       std::vector<double>& cnem_force) {
+    // The accelerations M̃⁻¹F projected like velocities; only the bridging particles enter the constraint.
+    dem = particles.force;
+    const std::size_t nodes3 = cnem.force.size();
+    cnem_force.resize(nodes3);
+    for (std::size_t a = 0; a < nodes3; ++a) {
+        cnem_force[a] = bridge.node_inverse_mass[a] * cnem.force[a];
+    }
+    for (const std::int32_t i : bridge.particle) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t k = 3 * static_cast<std::size_t>(i) + c;
+            dem[k] = bridge.particle_inverse_mass[static_cast<std::size_t>(i)] * particles.force[k];
+        }
+    }
+    projectOntoConstraint(bridge, dem.data(), cnem_force.data());
+    for (const std::int32_t i : bridge.particle) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            const std::size_t k = 3 * static_cast<std::size_t>(i) + c;
+            dem[k] *= bridge.mass[static_cast<std::size_t>(i)];
+        }
+    }
+    for (std::size_t a = 0; a < nodes3; ++a) {
+        cnem_force[a] = bridge.node_inverse_mass[a] > 0.0 ? bridge.node_mass[a / 3] * cnem_force[a] : 0.0;
+    }
 }
 
 double constraintResidual(Particles& particles, CnemModel& cnem, Bridge& bridge) {

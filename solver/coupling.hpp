@@ -87,6 +87,8 @@ struct Bridge {
     std::shared_ptr<const BridgeFactor> factor;
     // Scratch of the projection.
     std::vector<double> mismatch, residual, lambda, lambda_at_particle, cnem_scratch;
+    // Scratch of constrainedForces for the damping: 3n and 3N.
+    std::vector<double> net_force, net_node_force;
     // Scratch of the external-load split (splitBridgeLoads): 6 and 3 per bridging particle.
     std::vector<double> saved_loads, load_share;
 
@@ -124,6 +126,16 @@ void splitExternalLoads(Particles& particles, CnemModel& cnem, Bridge& bridge);
 
 /// Projects the velocities onto the constraint (§4.4 steps 3–5): g = G_d v + G_c V, A λ = −g, correction.
 void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bridge);
+
+/// The net forces of the constrained motion: the DEM force plus its share of the constraint force, F + G_dᵀλ
+/// with A λ = −(G_d M̃_d⁻¹ F + G_c M̃_c⁻¹ F_c), and likewise F_c + G_cᵀλ for the CNEM (mN; into `dem`, 3n,
+/// and `cnem`, 3N). At rest these vanish, while a bridging particle's or zone node's own force does not:
+/// the constraint holds it. Cundall damping takes its magnitude from them (solver/step.cpp
+/// damping.cundall): from the models' own forces it acted at rest in the zone as a Coulomb friction of
+/// α |F| that froze a 1 nm lateral drift of the coupled 30 µm box (examples/README.md, the domain study).
+/// Particles outside the bridge get F exactly; kinematic particles and Dirichlet DOFs 0.
+void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge& bridge, std::vector<double>& dem,
+                       std::vector<double>& cnem_force);
 
 /// The constraint residual max_K |g_K| / Σ_i w_i N_K(x_i): the largest L2-averaged velocity mismatch, km/s.
 double constraintResidual(Particles& particles, CnemModel& cnem, Bridge& bridge);

@@ -247,11 +247,18 @@ Step composeStep(const Scene& scene, Model& model) {
     if (damping && scene.damping.kind == DampingKind::CundallLocal) {
         const double alpha = scene.damping.coefficient;
         step.add("damping.cundall", true, [alpha](StepContext& c) {
-            cundallLocalDamping(c.model.particles.view(), alpha);
-            if (c.model.coupling) {
-                CnemModel& m = c.model.coupling->cnem; // the continuum is damped alike
-                cnemCundallDamping(m.nodes(), m.velocity.data(), m.fixed.data(), alpha, m.force.data());
+            if (!c.model.coupling) {
+                cundallLocalDamping(c.model.particles.view(), alpha);
+                return;
             }
+            // Both models alike, by the net force of the constrained motion: a bridging particle's or zone
+            // node's own force stays finite at rest, and damping by it would act as a friction there.
+            CnemModel& m = c.model.coupling->cnem;
+            Bridge& b = c.model.coupling->bridge;
+            constrainedForces(c.model.particles, m, b, b.net_force, b.net_node_force);
+            cundallLocalDamping(c.model.particles.view(), alpha, b.net_force.data());
+            cnemCundallDamping(m.nodes(), m.velocity.data(), m.fixed.data(), alpha, m.force.data(),
+                               b.net_node_force.data());
         });
     }
     if (coupled) {

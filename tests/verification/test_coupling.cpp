@@ -288,6 +288,115 @@ TEST(CouplingStatics, ALoadInTheZoneIsSharedByBothModels) {
     }
 }
 
+// Cundall damping across the zone: the bar clamped at x = 0 (its first DEM layer kinematic) and pulled by
+// an axial force F on the CNEM end face x = 26 µm, from rest, relaxed by Cundall's local damping (α = 0.3,
+// the scenes' value) and nothing else. 1D elasticity (matched materials): ε = F/(EA) everywhere (A = 9 µm²).
+// At that equilibrium a bridging particle's own force is not 0: its weighted bonds carry α_d of the stress
+// on each side and the constraint holds the difference; likewise a zone node. Damping by the models' own
+// forces (damping the constrained motion by α |F_own| sign(v)) then brakes the zone like a dry friction
+// wherever |F_own| ≫ the net force. Damping by the net force of the constrained motion (constrainedForces,
+// as damping.cundall does) must come to rest (kinetic energy ≤ 1e-9 of the strain energy) with the DEM
+// core between the clamp and the zone at ε to 1e-5: at equilibrium the core's x-bonds carry F whatever the
+// zone does, and N = E S (l − l₀)/l₀ is linear in the stretch, so only an unconverged relaxation leaves a
+// difference (measured 6e-9). The own forces stall: the core ≥ 1e-3 off ε (measured 1.1e-2) and still
+// moving (≥ 1e3 times the kinetic energy). The elongation of the CNEM part is printed, not judged: the end
+// face's equal nodal forces are point loads on a 2 × 2-cell section (7 % more than 1D with either damping).
+struct DampedPull {
+    double core_mean = 0.0; ///< DEM core mean strain / ε − 1
+    double elongation = 0.0; ///< the loaded face's displacement / (ε × its distance from the clamp) − 1
+    double kinetic = 0.0;   ///< kinetic energy at the end / the strain energy F ε L_c / 2 of the exact solution
+};
+
+DampedPull cundallDampedPull(bool by_net_force) {
+    CoupledBarSpec spec;
+    CoupledBar bar = testing::makeCoupledBar(spec);
+    Particles& p = bar.dem.particles;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.initial_position[3 * i] < 1.0)
+            p.flags[i] |= kKinematic; // the first layer (x = 0.5 µm)
+    }
+    std::vector<std::int32_t> end_face;
+    for (std::size_t J = 0; J < bar.cnem.nodes(); ++J) {
+        if (bar.cnem.mesh.position[3 * J] == spec.cnem_length)
+            end_face.push_back(static_cast<std::int32_t>(J));
+    }
+    testing::buildCoupledBridge(bar, spec);
+    const double area = 9.0;
+    const double eps = 1e-4;
+    const double force = eps * bar.young * area; // mN
+    for (std::int32_t J : end_face)
+        bar.cnem.external_force[3 * static_cast<std::size_t>(J)] = force / static_cast<double>(end_face.size());
+    // Cundall damping scales a force by up to 1 + α when it opposes the motion, so the stable step shrinks
+    // by √(1 + α): half of demStep's 0.9 Δt_crit keeps the highest mode (the layer next to the clamp) stable.
+    const double dt = 0.5 * demStep(bar.dem);
+    const ParticleView pv = bar.bridge.demView(p);
+    const CnemStateView sv = bar.bridge.cnemState(bar.cnem);
+    constexpr double alpha = 0.3;
+    auto forces = [&] {
+        computeCoupledForces(p, bar.dem.bonds, bar.dem.incidence, bar.cnem, bar.bridge);
+        if (by_net_force) {
+            constrainedForces(p, bar.cnem, bar.bridge, bar.bridge.net_force, bar.bridge.net_node_force);
+            cundallLocalDamping(p.view(), alpha, bar.bridge.net_force.data());
+            cnemCundallDamping(bar.cnem.nodes(), bar.cnem.velocity.data(), bar.cnem.fixed.data(), alpha,
+                               bar.cnem.force.data(), bar.bridge.net_node_force.data());
+        } else {
+            cundallLocalDamping(p.view(), alpha);
+            cnemCundallDamping(bar.cnem.nodes(), bar.cnem.velocity.data(), bar.cnem.fixed.data(), alpha,
+                               bar.cnem.force.data());
+        }
+    };
+    forces();
+    // Cundall damping takes a fixed share of the energy per cycle (about 4α/π of the amplitude's square);
+    // 200 periods of the clamped-free fundamental leave nothing measurable of the start.
+    const double omega1 = std::numbers::pi * bar.c / (2.0 * (spec.cnem_length + 0.5));
+    const int steps = static_cast<int>(200.0 * 2.0 * std::numbers::pi / omega1 / dt);
+    for (int n = 0; n < steps; ++n) { // the coupled step of stepCoupled with the damping in the force pass
+        halfKick(pv, dt);
+        cnemKick(sv, 0.5 * dt);
+        projectCoupledVelocities(p, bar.cnem, bar.bridge);
+        drift(pv, dt);
+        cnemDrift(sv, dt);
+        forces();
+        halfKick(pv, dt);
+        cnemKick(sv, 0.5 * dt);
+        projectCoupledVelocities(p, bar.cnem, bar.bridge);
+    }
+    DampedPull r;
+    double core_sum = 0.0;
+    int core_count = 0;
+    const Bonds& b = bar.dem.bonds;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        const std::size_t i = static_cast<std::size_t>(b.i[k]), j = static_cast<std::size_t>(b.j[k]);
+        if (std::abs(p.initial_position[3 * j] - p.initial_position[3 * i]) < 0.5 || bar.bridge.bond_weight[k] < 1.0)
+            continue; // transverse, or in the zone
+        core_sum += (load3(p.position.data(), j) - load3(p.position.data(), i)).norm() / b.rest_length[k] - 1.0;
+        ++core_count;
+    }
+    r.core_mean = core_sum / core_count / eps - 1.0;
+    // The elongation: the loaded face's mean displacement against ε times its distance from the clamp.
+    double end = 0.0;
+    for (std::int32_t J : end_face)
+        end += bar.cnem.displacement[3 * static_cast<std::size_t>(J)] / static_cast<double>(end_face.size());
+    r.elongation = end / (eps * (spec.cnem_length - 0.5)) - 1.0;
+    const CoupledEnergy e = coupledEnergy(p, bar.dem.bonds, bar.cnem, bar.bridge);
+    r.kinetic = (e.dem_kinetic + e.cnem_kinetic) / (0.5 * force * eps * spec.cnem_length);
+    std::printf("Cundall-damped pull (magnitude from the %s): %d steps; DEM core mean strain/ε − 1 = %.2e, "
+                "elongation/exact − 1 = %.2e, kinetic energy / exact strain energy %.1e\n",
+                by_net_force ? "net force of the constrained motion" : "models' own forces", steps, r.core_mean,
+                r.elongation, r.kinetic);
+    return r;
+}
+
+TEST(CouplingStatics, CundallDampingByTheNetForceReachesTheEquilibrium) {
+    const testing::SingleThread one_thread;
+    const DampedPull net = cundallDampedPull(true);
+    EXPECT_LE(std::abs(net.core_mean), 1e-5);
+    EXPECT_LE(net.kinetic, 1e-9);
+    const DampedPull own = cundallDampedPull(false);
+    EXPECT_GT(std::abs(own.core_mean), 1e-3);
+    EXPECT_GT(own.kinetic, 1e3 * net.kinetic);
+}
+
 /// A right-going Gaussian velocity pulse v_x = v0 exp(−(x − x0)²/2σ²) with its displacement
 /// u_x = (v0 σ/c) √(π/2) (1 − erf((x − x0)/(σ√2))) (u = g(x − ct), v = −c g'), imposed on both models from
 /// the same analytic field, then projected onto the constraint.
