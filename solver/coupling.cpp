@@ -332,8 +332,8 @@ void projectOntoConstraint(Bridge& bridge, double* dem, double* cnem) {
         for (Eigen::Index k = 0; k < K; ++k)
             bridge.lambda[3 * static_cast<std::size_t>(k) + c] = lam[k];
     }
-    bridgeCorrect(v, bridge.lambda.data(), bridge.particle_inverse_mass.data(), bridge.node_inverse_mass.data(),
-                  dem, cnem, bridge.lambda_at_particle.data());
+    bridgeCorrect(v, bridge.lambda.data(), bridge.particle_inverse_mass.data(),
+                  bridge.node_inverse_mass.data(), dem, cnem, bridge.lambda_at_particle.data());
 }
 
 } // namespace
@@ -342,8 +342,8 @@ void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bri
     projectOntoConstraint(bridge, particles.velocity.data(), cnem.velocity.data());
 }
 
-void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge& bridge, std::vector<double>& dem,
-                       std::vector<double>& cnem_force) {
+void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge& bridge,
+                       std::vector<double>& dem, std::vector<double>& cnem_force) {
     // The accelerations M̃⁻¹F projected like velocities; only the bridging particles enter the constraint.
     dem = particles.force;
     const std::size_t nodes3 = cnem.force.size();

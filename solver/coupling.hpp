@@ -134,8 +134,8 @@ void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bri
 /// damping.cundall): from the models' own forces it acted at rest in the zone as a Coulomb friction of
 /// α |F| that froze a 1 nm lateral drift of the coupled 30 µm box (examples/README.md, the domain study).
 /// Particles outside the bridge get F exactly; kinematic particles and Dirichlet DOFs 0.
-void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge& bridge, std::vector<double>& dem,
-                       std::vector<double>& cnem_force);
+void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge& bridge,
+                       std::vector<double>& dem, std::vector<double>& cnem_force);
 
 /// The constraint residual max_K |g_K| / Σ_i w_i N_K(x_i): the largest L2-averaged velocity mismatch, km/s.
 double constraintResidual(Particles& particles, CnemModel& cnem, Bridge& bridge);

@@ -302,9 +302,9 @@ TEST(CouplingStatics, ALoadInTheZoneIsSharedByBothModels) {
 // moving (≥ 1e3 times the kinetic energy). The elongation of the CNEM part is printed, not judged: the end
 // face's equal nodal forces are point loads on a 2 × 2-cell section (7 % more than 1D with either damping).
 struct DampedPull {
-    double core_mean = 0.0; ///< DEM core mean strain / ε − 1
+    double core_mean = 0.0;  ///< DEM core mean strain / ε − 1
     double elongation = 0.0; ///< the loaded face's displacement / (ε × its distance from the clamp) − 1
-    double kinetic = 0.0;   ///< kinetic energy at the end / the strain energy F ε L_c / 2 of the exact solution
+    double kinetic = 0.0; ///< kinetic energy at the end / the strain energy F ε L_c / 2 of the exact solution
 };
 
 DampedPull cundallDampedPull(bool by_net_force) {
@@ -325,7 +325,8 @@ DampedPull cundallDampedPull(bool by_net_force) {
     const double eps = 1e-4;
     const double force = eps * bar.young * area; // mN
     for (std::int32_t J : end_face)
-        bar.cnem.external_force[3 * static_cast<std::size_t>(J)] = force / static_cast<double>(end_face.size());
+        bar.cnem.external_force[3 * static_cast<std::size_t>(J)] =
+            force / static_cast<double>(end_face.size());
     // Cundall damping scales a force by up to 1 + α when it opposes the motion, so the stable step shrinks
     // by √(1 + α): half of demStep's 0.9 Δt_crit keeps the highest mode (the layer next to the clamp) stable.
     const double dt = 0.5 * demStep(bar.dem);
@@ -367,9 +368,11 @@ DampedPull cundallDampedPull(bool by_net_force) {
     const Bonds& b = bar.dem.bonds;
     for (std::size_t k = 0; k < b.size(); ++k) {
         const std::size_t i = static_cast<std::size_t>(b.i[k]), j = static_cast<std::size_t>(b.j[k]);
-        if (std::abs(p.initial_position[3 * j] - p.initial_position[3 * i]) < 0.5 || bar.bridge.bond_weight[k] < 1.0)
+        if (std::abs(p.initial_position[3 * j] - p.initial_position[3 * i]) < 0.5 ||
+            bar.bridge.bond_weight[k] < 1.0)
             continue; // transverse, or in the zone
-        core_sum += (load3(p.position.data(), j) - load3(p.position.data(), i)).norm() / b.rest_length[k] - 1.0;
+        core_sum +=
+            (load3(p.position.data(), j) - load3(p.position.data(), i)).norm() / b.rest_length[k] - 1.0;
         ++core_count;
     }
     r.core_mean = core_sum / core_count / eps - 1.0;
@@ -382,8 +385,8 @@ DampedPull cundallDampedPull(bool by_net_force) {
     r.kinetic = (e.dem_kinetic + e.cnem_kinetic) / (0.5 * force * eps * spec.cnem_length);
     std::printf("Cundall-damped pull (magnitude from the %s): %d steps; DEM core mean strain/ε − 1 = %.2e, "
                 "elongation/exact − 1 = %.2e, kinetic energy / exact strain energy %.1e\n",
-                by_net_force ? "net force of the constrained motion" : "models' own forces", steps, r.core_mean,
-                r.elongation, r.kinetic);
+                by_net_force ? "net force of the constrained motion" : "models' own forces", steps,
+                r.core_mean, r.elongation, r.kinetic);
     return r;
 }
 
