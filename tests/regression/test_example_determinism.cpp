@@ -62,9 +62,10 @@ INSTANTIATE_TEST_SUITE_P(
         // The DEM-only box reference of the domain study on a 6 × 6 × 4 µm box of 2 700 particles
         // (R̄ ≈ 0.2 µm), indented at the centre of its top face.
         ExampleCase{"vickers_box", "vickers-0.1N-box.toml",
-                    "--set 'sample.size=[6.0, 6.0, 4.0]' --set sample.particles=2700 --set 'sample.file=\"\"'"
-                    " --set indenter.axis_x=3.0 --set indenter.axis_y=3.0 --set 'stage[0].speed=0.1'"
-                    " --set 'stage[0].until_force=0.004' --set 'stage[1].duration=2.0' --set 'stage[2].speed=0.1'"
+                    "--set 'sample.size=[6.0, 6.0, 4.0]' --set sample.particles=2700"
+                    " --set 'sample.file=\"\"' --set indenter.axis_x=3.0 --set indenter.axis_y=3.0"
+                    " --set 'stage[0].speed=0.1' --set 'stage[0].until_force=0.004'"
+                    " --set 'stage[1].duration=2.0' --set 'stage[2].speed=0.1'"
                     " --set 'stage[3].duration=5.0' --set time.duration=200.0"},
         ExampleCase{"vickers_fracture_contacts", "vickers-0.1N.toml",
                     VITRUM_SMALL_INDENT " --set fracture.hydrostatic_strength=0.02 --set 'effects.list=["
