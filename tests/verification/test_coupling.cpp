@@ -8,6 +8,7 @@
 // ρ = m/a³), so that the exact solution of every test here is known from 1D elasticity.
 #include <cmath>
 #include <complex>
+#include <functional>
 #include <cstdio>
 #include <numbers>
 #include <random>
@@ -32,6 +33,23 @@ using testing::CoupledBarSpec;
 /// Δt = 0.9 × the DEM-alone critical step 2/ω_max (power iteration, solver/frequency.hpp).
 double demStep(Model& dem) {
     return 0.9 * 2.0 / highestFrequency(dem).omega;
+}
+
+/// The coupled step of stepCoupled (kick, projection, drift, forces, kick, projection) with the test's own
+/// force pass `forces` (computeCoupledForces and whatever the test adds to it).
+void coupledStep(CoupledBar& bar, double dt, const std::function<void()>& forces) {
+    Particles& p = bar.dem.particles;
+    const ParticleView pv = bar.bridge.demView(p);
+    const CnemStateView sv = bar.bridge.cnemState(bar.cnem);
+    halfKick(pv, dt);
+    cnemKick(sv, 0.5 * dt);
+    projectCoupledVelocities(p, bar.cnem, bar.bridge);
+    drift(pv, dt);
+    cnemDrift(sv, dt);
+    forces();
+    halfKick(pv, dt);
+    cnemKick(sv, 0.5 * dt);
+    projectCoupledVelocities(p, bar.cnem, bar.bridge);
 }
 
 /// Multiplies every free velocity of both models by f (mass-proportional damping for dynamic relaxation;
@@ -194,8 +212,6 @@ LoadInTheZone pointLoadInTheZone(bool split, double x_load) {
             layer.push_back(i);
     }
     const double dt = demStep(bar.dem);
-    const ParticleView pv = bar.bridge.demView(p);
-    const CnemStateView sv = bar.bridge.cnemState(bar.cnem);
     // The force pass with the load; `balance` (when given) gets |Σ of what the load added to both models − F| / F,
     // the split's conservation of the total force (exact without the split: all of F on the particles).
     auto forces = [&](double* balance) {
@@ -222,16 +238,8 @@ LoadInTheZone pointLoadInTheZone(bool split, double x_load) {
     const double omega1 = std::numbers::pi * bar.c / (2.0 * spec.cnem_length); // clamped-free fundamental
     const double damp = std::exp(-2.0 * omega1 * dt);
     const int steps = static_cast<int>(60.0 / omega1 / dt); // e^{-60}: converged (×4 changes nothing printed)
-    for (int n = 0; n < steps; ++n) { // the coupled step of stepCoupled with the load in the force pass
-        halfKick(pv, dt);
-        cnemKick(sv, 0.5 * dt);
-        projectCoupledVelocities(p, bar.cnem, bar.bridge);
-        drift(pv, dt);
-        cnemDrift(sv, dt);
-        forces(nullptr);
-        halfKick(pv, dt);
-        cnemKick(sv, 0.5 * dt);
-        projectCoupledVelocities(p, bar.cnem, bar.bridge);
+    for (int n = 0; n < steps; ++n) {
+        coupledStep(bar, dt, [&] { forces(nullptr); }); // with the load in the force pass
         scaleVelocities(bar, damp);
     }
     // Mean axial strain of the x-bonds whose midpoint is at x_load − 0.5 (left) and x_load + 0.5 (right).
@@ -330,8 +338,6 @@ DampedPull cundallDampedPull(bool by_net_force) {
     // Cundall damping scales a force by up to 1 + α when it opposes the motion, so the stable step shrinks
     // by √(1 + α): half of demStep's 0.9 Δt_crit keeps the highest mode (the layer next to the clamp) stable.
     const double dt = 0.5 * demStep(bar.dem);
-    const ParticleView pv = bar.bridge.demView(p);
-    const CnemStateView sv = bar.bridge.cnemState(bar.cnem);
     constexpr double alpha = 0.3;
     auto forces = [&] {
         computeCoupledForces(p, bar.dem.bonds, bar.dem.incidence, bar.cnem, bar.bridge);
@@ -351,17 +357,8 @@ DampedPull cundallDampedPull(bool by_net_force) {
     // 200 periods of the clamped-free fundamental leave nothing measurable of the start.
     const double omega1 = std::numbers::pi * bar.c / (2.0 * (spec.cnem_length + 0.5));
     const int steps = static_cast<int>(200.0 * 2.0 * std::numbers::pi / omega1 / dt);
-    for (int n = 0; n < steps; ++n) { // the coupled step of stepCoupled with the damping in the force pass
-        halfKick(pv, dt);
-        cnemKick(sv, 0.5 * dt);
-        projectCoupledVelocities(p, bar.cnem, bar.bridge);
-        drift(pv, dt);
-        cnemDrift(sv, dt);
-        forces();
-        halfKick(pv, dt);
-        cnemKick(sv, 0.5 * dt);
-        projectCoupledVelocities(p, bar.cnem, bar.bridge);
-    }
+    for (int n = 0; n < steps; ++n)
+        coupledStep(bar, dt, forces); // with the damping in the force pass
     DampedPull r;
     double core_sum = 0.0;
     int core_count = 0;
