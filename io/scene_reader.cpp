@@ -600,9 +600,9 @@ void SceneParser::readSample(const TableReader& top, Scene& scene) const {
             if (const toml::node* given = sample.find(key)) {
                 fail(given->source(),
                      "key '" + sample.dotted(key) +
-                         "': not used with sample.cut_from (the "
-                         "particles, their bonds and the packing parameters are the source file's); "
-                         "remove it, or replace the whole table: --set 'sample={...}'");
+                         "': not used with sample.cut_from (the particles, their bonds and the packing "
+                         "parameters are the source file's); remove it, or replace the whole table: --set "
+                         "'sample={...}'");
             }
         }
         std::filesystem::path file(*from);

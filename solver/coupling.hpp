@@ -133,7 +133,8 @@ void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bri
 /// the constraint holds it. Cundall damping takes its magnitude from them (solver/step.cpp
 /// damping.cundall): from the models' own forces it acted at rest in the zone as a Coulomb friction of
 /// α |F| that froze a 1 nm lateral drift of the coupled 30 µm box (examples/README.md, the domain study).
-/// Particles outside the bridge get F exactly; kinematic particles and Dirichlet DOFs 0.
+/// Particles outside the bridge get F exactly; kinematic bridging particles and Dirichlet DOFs 0 (neither
+/// moves, and the damping leaves both alone).
 void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge& bridge,
                        std::vector<double>& dem, std::vector<double>& cnem_force);
 
