@@ -36,7 +36,8 @@ struct SampleParams {
     std::string file;              ///< random: packing cache (HDF5); loaded if present and matching, else written
     /// random: instead of packing, cut the shape out of this packing file (solver/packing.hpp cutPacking;
     /// resolved path). The particles, bonds and packing parameters are then the source's: the keys above
-    /// from `particles` to `file` are not used and the scene reader refuses them.
+    /// from `particles` to `file` are not used and the scene reader refuses them (so `packing_fraction`
+    /// keeps its default 0.63, the fracture effect's φ unless [fracture] packing_fraction says otherwise).
     std::string cut_from;
     Vec3 cut_offset = Vec3::Zero(); ///< µm: where the shape's origin lies in the cut_from packing
 };

@@ -46,7 +46,6 @@ for ax, (title, key) in zip(axs, runs):
 axs[0].set_ylabel("z below the surface (um)")
 fig.colorbar(image, ax=axs, shrink=0.8, label="densification: bond slip volume per volume (-)")
 fig.suptitle(f"Densified zone at {force.replace('N', ' N')}, one microstructure under the tool "
-             "(hemispheres cut from "
-             "the box's packing), 20 000-particle resolution", fontsize=9)
+             "(hemispheres cut from the box's packing), 20 000-particle resolution", fontsize=9)
 fig.savefig(png, dpi=110)
 print("wrote", png)
