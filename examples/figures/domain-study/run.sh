@@ -6,7 +6,8 @@
 # Usage (from the repository root, after make build):
 #   examples/figures/domain-study/run.sh [OUT] [THREADS] [SEED]
 #   OUT defaults to out/domain-study, THREADS to 2, SEED (the box packing's) to 1. Six runs, one after the
-#   other, and the 0.1 N box once more relaxed to rest; ~45 min on 2 cores. A run whose summary.json exists is kept, so an interrupted study resumes.
+#   other, and the 0.1 N box once more relaxed to rest; ~45 min on 2 cores. A run whose summary.json exists
+#   is kept, so an interrupted study resumes.
 #   Then compare.py writes OUT/tables.md and zone_figure.py OUT/densified_zone_{0.1N,0.5N}.png (the tables and
 #   figures of examples/README.md, "The coupled model against the whole box"; seed 1's are in seed1/).
 # Programme: 100 m/s in and out, 5 ns hold; 0.1 N relaxes 60 ns (kinetic_tolerance 1e-12), 0.5 N as
@@ -30,7 +31,8 @@ half=(--set 'stage[0].until_force=0.5' --set 'stage[0].slow_band=0.005')
 # The box rings after the 60 ns relax: a global mode of period ~17 ns whose kinetic energy peaks at ~4e-4 nJ
 # (seed 2), where the dome and the coupled model end at 1e-8 nJ or less. A kinetic-energy tolerance cannot tell
 # rest from the mode's turning points (its kinetic energy falls to ~1e-6 nJ there at 90 ns), so box-0.1N-rest
-# relaxes a fixed 120 ns: the mode's peaks fall ~2.2x in kinetic energy per half period, ~100x more by the end.
+# relaxes a fixed 120 ns: the mode's peaks fall ~2.2x in kinetic energy per half period, 300x lower by the
+# end on seed 2 (148 ns).
 still=(--set 'stage[3].duration=120.0')
 run() {
     local name=$1
