@@ -172,15 +172,29 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
     const SurfaceGrid before =
         surfaceEnvelope(n, p.initial_position.data(), p.radius.data(), params.axis, params.far_outer, params.spacing);
     // The print of the bonded solid: released particles (fragments) are left out of the final surface.
-    std::vector<double> kept_position, kept_radius;
+    std::vector<double> kept_position, kept_reference, kept_radius;
     for (std::size_t i = 0; i < n; ++i) {
         if (p.fractureEnabled() && p.released[i]) continue;
-        for (int c = 0; c < 3; ++c) kept_position.push_back(p.position[3 * i + c]);
+        for (int c = 0; c < 3; ++c) {
+            kept_position.push_back(p.position[3 * i + c]);
+            kept_reference.push_back(p.initial_position[3 * i + c]);
+        }
         kept_radius.push_back(p.radius[i]);
     }
     const SurfaceGrid after = surfaceEnvelope(kept_radius.size(), kept_position.data(), kept_radius.data(),
                                               params.axis, params.far_outer, params.spacing);
     const ImprintMetrics im = measureImprint(before, after, params);
+    // The same metrics on the surface particles' own vertical displacement (solver/imprint.hpp).
+    const SurfaceGrid kept_before =
+        kept_radius.size() == n ? before
+                                : surfaceEnvelope(kept_radius.size(), kept_reference.data(), kept_radius.data(),
+                                                  params.axis, params.far_outer, params.spacing);
+    ImprintParams lagrangian_params = params;
+    lagrangian_params.edge = PrintEdge::FlankSecant; // the print has no rim to return to (imprint.hpp)
+    const ImprintMetrics lagrangian =
+        imprintMetrics(surfaceDisplacementChange(before, kept_before, kept_reference.data(), kept_position.data(),
+                                                 lagrangian_params),
+                       before, lagrangian_params);
 
     m["V_minus_um3"] = im.v_minus;
     m["V_plus_um3"] = im.v_plus;
@@ -196,13 +210,29 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
     m["hardness_GPa"] = im.diagonal > 0.0 ? 1.8544 * ind.max_force / (im.diagonal * im.diagonal) : 0.0;
     m["tool_work_nJ"] = ind.work;
     m["relax_converged"] = ind.relax_converged;
-    m["imprint_method"] = "upper envelope of the particles on a grid (spacing " + std::to_string(params.spacing) +
-                          " um), after minus before, Gaussian-smoothed (sigma " + std::to_string(params.smoothing) +
-                          " um), far field = mean over r in [" + std::to_string(params.far_inner) + ", " +
-                          std::to_string(params.far_outer) + "] um, integrals over r < " +
-                          std::to_string(params.far_inner) + " um (V_plus_print_um3: r < L)" +
+    const std::string grid_text = "on a grid (spacing " + std::to_string(params.spacing) +
+                                  " um), Gaussian-smoothed (sigma " + std::to_string(params.smoothing) +
+                                  " um), far field = mean over r in [" + std::to_string(params.far_inner) + ", " +
+                                  std::to_string(params.far_outer) + "] um, integrals over r < " +
+                                  std::to_string(params.far_inner) + " um (V_plus_print_um3: r < L)";
+    m["imprint_method"] = "upper envelope of the particles, after minus before, " + grid_text +
                           (p.fractureEnabled() ? "; released particles left out of the final surface" : "");
     m["far_field_offset_um"] = im.far_field;
+    m["imprint_lagrangian"] = {
+        {"V_minus_um3", lagrangian.v_minus},
+        {"V_plus_um3", lagrangian.v_plus},
+        {"V_plus_print_um3", lagrangian.v_plus_print},
+        {"V_d_um3", lagrangian.v_d},
+        {"depth_um", lagrangian.depth},
+        {"diagonal_um", lagrangian.diagonal},
+        {"diagonals_um", {lagrangian.diagonals[0], lagrangian.diagonals[1]}},
+        {"far_field_offset_um", lagrangian.far_field},
+        {"method", "vertical displacement of the particle that was the surface at each point (the owner of the "
+                   "reference envelope), over the reference positions, " +
+                       grid_text +
+                       "; L from the secant through each half-diagonal's profile at 75 % and 25 % of the depth, "
+                       "extended to the far-field level (V_plus_print_um3 over r < that L)" +
+                       (p.fractureEnabled() ? "; released particles' layer counted as removed" : "")}};
 
     // Densified volume from the permanent volumetric strain: Σ Ω_i (−ε_v,i), Ω_i = particle volume / φ with φ
     // the sample's packing fraction (the cells tile the sample volume).
@@ -291,12 +321,12 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
 
     // Plot data: the imprint on its grid, and a slab through the axis (y ≈ axis y) for the cut-away view.
     std::ostringstream imprint;
-    imprint << "x_um,y_um,dh_um\n" << std::setprecision(7);
+    imprint << "x_um,y_um,dh_um,dh_lagrangian_um\n" << std::setprecision(7);
     for (int iy = 0; iy < im.grid.ny; ++iy) {
         for (int ix = 0; ix < im.grid.nx; ++ix) {
-            const double v = im.dh[static_cast<std::size_t>(ix + im.grid.nx * iy)];
-            if (!std::isnan(v)) {
-                imprint << im.grid.x(ix) << "," << im.grid.y(iy) << "," << v << "\n";
+            const std::size_t c = static_cast<std::size_t>(ix + im.grid.nx * iy);
+            if (!std::isnan(im.dh[c])) {
+                imprint << im.grid.x(ix) << "," << im.grid.y(iy) << "," << im.dh[c] << "," << lagrangian.dh[c] << "\n";
             }
         }
     }
@@ -327,6 +357,11 @@ void printImprintTable(std::ostream& log, const Scene& scene, const nlohmann::or
             << std::defaultfloat;
     };
     row("vitrum", m["V_minus_um3"], m["V_plus_um3"], m["V_d_um3"], m["depth_um"], m["diagonal_um"]);
+    if (m.contains("imprint_lagrangian")) {
+        const nlohmann::ordered_json& l = m["imprint_lagrangian"];
+        row("vitrum, surface particles", l["V_minus_um3"], l["V_plus_um3"], l["V_d_um3"], l["depth_um"],
+            l["diagonal_um"]);
+    }
     const std::string load = light ? "0.1 N" : "0.5 N";
     // Sharp indentation is self-similar (no length scale in the pyramid, the elasticity or the slider):
     // lengths go with √F and volumes with F^(3/2). A run at another load is shown scaled to the paper's.

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/calibrate_command.hpp"
+#include "app/measure_command.hpp"
 #include "app/pack_command.hpp"
 #include "app/run_command.hpp"
 #include "solver/errors.hpp"
@@ -30,6 +31,15 @@ int main(int argc, char** argv) {
                         "Save a checkpoint (state.h5) and stop after this many steps, e.g. to chain jobs under a "
                         "batch time limit; continue with --restart")
         ->check(CLI::PositiveNumber);
+
+    vitrum::MeasureOptions measure;
+    CLI::App* measure_cmd = app.add_subcommand(
+        "measure", "Recompute the imprint metrics of an indentation run from its saved state (state.h5 and "
+                   "resolved_scene.toml in DIR; run from the directory the run was started in) into measure.json");
+    measure_cmd->add_option("dir", measure.run_dir, "Output directory of the run")->required();
+    measure_cmd->add_option("--out", measure.out_dir, "Where to write measure.json, imprint.csv, cutaway.csv "
+                                                      "(default: the run's directory)");
+    measure_cmd->add_option("--threads", measure.threads, "OpenMP threads")->check(CLI::PositiveNumber);
 
     vitrum::PackOptions pack;
     std::vector<double> pack_size;
@@ -141,6 +151,9 @@ int main(int argc, char** argv) {
     try {
         if (run_cmd->parsed()) {
             return vitrum::runScene(run);
+        }
+        if (measure_cmd->parsed()) {
+            return vitrum::measureRun(measure);
         }
         if (pack_cmd->parsed()) {
             if (pack_size.size() == 3) {

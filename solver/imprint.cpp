@@ -76,6 +76,7 @@ SurfaceGrid surfaceEnvelope(std::size_t n, const double* position, const double*
     g.x0 = axis.x() - spacing * (g.nx / 2);
     g.y0 = axis.y() - spacing * (g.ny / 2);
     g.z.assign(static_cast<std::size_t>(g.nx) * g.ny, kNegInf);
+    g.owner.assign(g.z.size(), -1);
     for (std::size_t i = 0; i < n; ++i) {
         const double xi = position[3 * i];
         const double yi = position[3 * i + 1];
@@ -90,9 +91,10 @@ SurfaceGrid surfaceEnvelope(std::size_t n, const double* position, const double*
             for (int ix = ix0; ix <= ix1; ++ix) {
                 const double dx = g.x(ix) - xi;
                 const double q = r * r - dx * dx - dy * dy;
-                if (q >= 0.0) {
-                    double& z = g.z[static_cast<std::size_t>(ix + g.nx * iy)];
-                    z = std::max(z, zi + std::sqrt(q));
+                const std::size_t c = static_cast<std::size_t>(ix + g.nx * iy);
+                if (q >= 0.0 && zi + std::sqrt(q) > g.z[c]) {
+                    g.z[c] = zi + std::sqrt(q);
+                    g.owner[c] = static_cast<int>(i);
                 }
             }
         }
@@ -100,21 +102,63 @@ SurfaceGrid surfaceEnvelope(std::size_t n, const double* position, const double*
     return g;
 }
 
-ImprintMetrics measureImprint(const SurfaceGrid& before, const SurfaceGrid& after, const ImprintParams& p) {
-    if (before.nx != after.nx || before.ny != after.ny || before.spacing != after.spacing) {
-        throw std::invalid_argument("measureImprint: the two envelopes are on different grids");
-    }
-    const SurfaceGrid& g = before;
-    const std::size_t cells = g.z.size();
-    std::vector<double> dh(cells, kNaN);
+namespace {
+/// Calls f(cell) for every cell of g within r ≤ far_outer of the axis.
+template <class F> void forDisc(const SurfaceGrid& g, const ImprintParams& p, F f) {
     for (int iy = 0; iy < g.ny; ++iy) {
         for (int ix = 0; ix < g.nx; ++ix) {
-            const std::size_t c = static_cast<std::size_t>(ix + g.nx * iy);
             const double r = std::hypot(g.x(ix) - p.axis.x(), g.y(iy) - p.axis.y());
-            if (r <= p.far_outer && std::isfinite(before.z[c]) && std::isfinite(after.z[c])) {
-                dh[c] = after.z[c] - before.z[c];
+            if (r <= p.far_outer) {
+                f(static_cast<std::size_t>(ix + g.nx * iy));
             }
         }
+    }
+}
+
+bool sameGrid(const SurfaceGrid& a, const SurfaceGrid& b) {
+    return a.nx == b.nx && a.ny == b.ny && a.spacing == b.spacing && a.x0 == b.x0 && a.y0 == b.y0;
+}
+} // namespace
+
+std::vector<double> envelopeChange(const SurfaceGrid& before, const SurfaceGrid& after, const ImprintParams& p) {
+    if (!sameGrid(before, after)) {
+        throw std::invalid_argument("envelopeChange: the two envelopes are on different grids");
+    }
+    std::vector<double> dh(before.z.size(), kNaN);
+    forDisc(before, p, [&](std::size_t c) {
+        if (std::isfinite(before.z[c]) && std::isfinite(after.z[c])) {
+            dh[c] = after.z[c] - before.z[c];
+        }
+    });
+    return dh;
+}
+
+std::vector<double> surfaceDisplacementChange(const SurfaceGrid& before, const SurfaceGrid& kept,
+                                              const double* kept_reference, const double* kept_position,
+                                              const ImprintParams& p) {
+    if (!sameGrid(before, kept) || kept.owner.size() != kept.z.size()) {
+        throw std::invalid_argument("surfaceDisplacementChange: the envelopes are on different grids or the kept "
+                                    "one has no owners");
+    }
+    std::vector<double> dh(before.z.size(), kNaN);
+    forDisc(before, p, [&](std::size_t c) {
+        const int k = kept.owner[c];
+        if (std::isfinite(before.z[c]) && k >= 0) {
+            const double dz = kept_position[3 * static_cast<std::size_t>(k) + 2] -
+                              kept_reference[3 * static_cast<std::size_t>(k) + 2];
+            dh[c] = kept.z[c] + dz - before.z[c];
+        }
+    });
+    return dh;
+}
+
+ImprintMetrics measureImprint(const SurfaceGrid& before, const SurfaceGrid& after, const ImprintParams& p) {
+    return imprintMetrics(envelopeChange(before, after, p), before, p);
+}
+
+ImprintMetrics imprintMetrics(std::vector<double> dh, const SurfaceGrid& g, const ImprintParams& p) {
+    if (dh.size() != static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny)) {
+        throw std::invalid_argument("imprintMetrics: the surface change does not fit the grid");
     }
     ImprintMetrics m;
     dh = smooth(dh, g.nx, g.ny, p.smoothing / g.spacing);
@@ -148,26 +192,53 @@ ImprintMetrics measureImprint(const SurfaceGrid& before, const SurfaceGrid& afte
         }
     }
     m.v_d = m.v_minus - m.v_plus;
-    // Half-diagonals: first return of Δh to the far-field level along x = ±y, sampled at half the spacing.
-    // "Returned" is within 0.1 % of the print depth, so a print that blends into the far field without a rim
-    // still has an edge (it shortens L by 0.1 % of the face's run at most).
+    // Half-diagonals along x = ±y, Δh sampled at half the spacing out to the annulus (PrintEdge):
+    //  FirstReturn: the first return of Δh to the far-field level. "Returned" is within 0.1 % of the print
+    //    depth, so a print that blends into the far field without a rim still has an edge (it shortens L by
+    //    0.1 % of the face's run at most).
+    //  FlankSecant: where the secant through the profile's outward crossings of 75 % and 25 % of the depth
+    //    meets the far-field level. Both crossings lie on the flank, clear of the apex (where sampling the
+    //    pyramid's kinked edge on a grid steepens the slope) and of the tail outside the print.
     const double step = 0.5 * g.spacing;
     const double level = -1e-3 * m.depth;
     double half[4] = {0, 0, 0, 0};
     for (int k = 0; k < 4; ++k) {
         const double ux = (k == 0 || k == 3 ? 1.0 : -1.0) / std::sqrt(2.0);
         const double uy = (k < 2 ? 1.0 : -1.0) / std::sqrt(2.0);
-        double previous = bilinear(dh, g, p.axis.x(), p.axis.y());
-        for (double s = step; s < p.far_inner; s += step) {
-            const double v = bilinear(dh, g, p.axis.x() + s * ux, p.axis.y() + s * uy);
-            if (std::isnan(v)) {
+        std::vector<double> at, v; // distances from the axis and Δh there
+        for (double s = 0.0; s < p.far_inner; s += step) {
+            const double sample = bilinear(dh, g, p.axis.x() + s * ux, p.axis.y() + s * uy);
+            if (std::isnan(sample)) {
                 break;
             }
-            if (previous < level && v >= level) {
-                half[k] = s - step * (v - level) / (v - previous); // linear crossing between the two samples
-                break;
+            at.push_back(s);
+            v.push_back(sample);
+        }
+        if (p.edge == PrintEdge::FirstReturn) {
+            for (std::size_t i = 1; i < v.size(); ++i) {
+                if (v[i - 1] < level && v[i] >= level) {
+                    half[k] = at[i] - step * (v[i] - level) / (v[i] - v[i - 1]); // linear crossing
+                    break;
+                }
             }
-            previous = v;
+        } else {
+            // Outward crossings of 75 % and then 25 % of the depth, linearly interpolated between samples.
+            auto crossing = [&](std::size_t from, double target, std::size_t& index) {
+                for (std::size_t i = std::max<std::size_t>(from, 1); i < v.size(); ++i) {
+                    if (v[i - 1] < target && v[i] >= target) {
+                        index = i;
+                        return at[i] - step * (v[i] - target) / (v[i] - v[i - 1]);
+                    }
+                }
+                index = v.size();
+                return std::numeric_limits<double>::quiet_NaN();
+            };
+            std::size_t i75 = 0, i25 = 0;
+            const double s75 = !v.empty() && v[0] >= -0.75 * m.depth ? 0.0 : crossing(1, -0.75 * m.depth, i75);
+            const double s25 = crossing(i75, -0.25 * m.depth, i25);
+            if (std::isfinite(s75) && std::isfinite(s25)) {
+                half[k] = s25 + 0.5 * (s25 - s75); // the secant extended from −D/4 up to the far-field level
+            }
         }
     }
     m.diagonals[0] = half[0] + half[2];
@@ -183,8 +254,11 @@ ImprintMetrics measureImprint(const SurfaceGrid& before, const SurfaceGrid& afte
         }
     }
     m.dh = std::move(dh);
-    m.grid = g;
-    m.grid.z.clear();
+    m.grid.x0 = g.x0;
+    m.grid.y0 = g.y0;
+    m.grid.spacing = g.spacing;
+    m.grid.nx = g.nx;
+    m.grid.ny = g.ny;
     return m;
 }
 
