@@ -1,7 +1,9 @@
 // End-to-end Vickers indentation runs (effect indenter): the stage programme runs to the end, the force
 // target is met within 1 %, the metrics and plot data are written, the final state does not depend on the
-// thread count, and a restart in the middle of the programme continues bit-identically.
+// thread count, a restart in the middle of the programme continues bit-identically, and `vitrum measure`
+// recomputes the metrics from the saved state.
 #include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -84,6 +86,43 @@ TEST(Indentation, RestartInTheMiddleOfLoadingContinuesBitIdentically) {
         << readText(parts / "log2.txt");
     EXPECT_EQ(readSummary(full)["state_sha256"], readSummary(parts)["state_sha256"]);
     EXPECT_EQ(readSummary(full)["steps"], readSummary(parts)["steps"]);
+}
+
+TEST(Indentation, MeasureRecomputesTheRunsMetricsFromItsSavedState) {
+    // `vitrum measure DIR` rebuilds the model from the resolved scene, reads the final checkpoint and measures
+    // again: every indentation key must be the run's, to the bit (the same state through the same code).
+    const fs::path dir = freshTempDir("indent-measure");
+    const fs::path again = dir / "again";
+    ASSERT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + kReduced + " --set 'stage[3].duration=2.0'",
+                        dir / "log.txt"),
+              0)
+        << readText(dir / "log.txt");
+    ASSERT_EQ(runVitrum("measure " + dir.string() + " --out " + again.string(), dir / "measure.txt"), 0)
+        << readText(dir / "measure.txt");
+    const nlohmann::json run = readSummary(dir)["measurements"];
+    const nlohmann::json measured = nlohmann::json::parse(readText(again / "measure.json"))["measurements"];
+    for (const char* key : {"V_minus_um3", "V_plus_um3", "V_plus_print_um3", "V_d_um3", "depth_um", "diagonal_um",
+                            "max_force_N", "max_depth_um", "tool_work_nJ", "densified_volume_um3",
+                            "slider_densified_volume_um3", "densified_zone_depth_um", "imprint_lagrangian"}) {
+        EXPECT_EQ(measured[key], run[key]) << key;
+    }
+    EXPECT_EQ(readText(again / "imprint.csv"), readText(dir / "imprint.csv"));
+    // The surface particles' print: V_d = V⁻ − V⁺ by definition, and no deeper than the tip went.
+    const nlohmann::json& l = run["imprint_lagrangian"];
+    EXPECT_NEAR(l["V_d_um3"].get<double>(), l["V_minus_um3"].get<double>() - l["V_plus_um3"].get<double>(), 1e-12);
+    EXPECT_GT(l["depth_um"].get<double>(), 0.0);
+    EXPECT_LE(l["depth_um"].get<double>(), run["max_depth_um"].get<double>());
+
+    // Bad input: not a run directory; a resolved scene that is not the checkpoint's.
+    EXPECT_EQ(runVitrum("measure " + (dir / "nowhere").string(), dir / "bad.txt"), 2);
+    EXPECT_NE(readText(dir / "bad.txt").find("not a directory"), std::string::npos) << readText(dir / "bad.txt");
+    {
+        std::ofstream edit(dir / "resolved_scene.toml", std::ios::app);
+        edit << "\n# edited\n";
+    }
+    EXPECT_EQ(runVitrum("measure " + dir.string() + " --out " + again.string(), dir / "bad.txt"), 2);
+    EXPECT_NE(readText(dir / "bad.txt").find("checkpoint of another scene"), std::string::npos)
+        << readText(dir / "bad.txt");
 }
 
 TEST(Indentation, StagesThatContradictEachOtherAreBadInput) {
