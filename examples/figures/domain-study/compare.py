@@ -11,7 +11,10 @@ r < 7.8 um (vplus.py --annulus); L with the print's edge at 5 % of D (diagonal()
 load and the tool's work; the densified bonds and
 their slip volume; and the densified zone's shape from the bonds' slip volumes (shape.py: depth and lateral
 radius holding 90 % of it, and the slip-volume-weighted mean depth and radius; reference midpoints, from the
-top face's centre).
+top face's centre). Last, the print on the surface particles' own vertical displacement (summary key
+imprint_lagrangian, solver/imprint.hpp; for a run older than that key, `build/vitrum measure RUN` writes it to
+RUN/measure.json and the dh_lagrangian_um column into RUN/imprint.csv, which are read instead): V-, V+, D and L
+(flank secant) "of the particles", and V-, V+ of the particles on the common 7.8-10.2 um annulus.
 """
 import csv, json, os, sys
 import numpy as np
@@ -69,6 +72,28 @@ def diagonal(run, share):
     return 0.5 * sum(half)
 
 
+def lagrangian(run):
+    """The surface particles' print: the summary's imprint_lagrangian, else measure.json's, else NaNs."""
+    for name in ["summary.json", "measure.json"]:
+        path = os.path.join(run, name)
+        if os.path.exists(path):
+            m = json.load(open(path))["measurements"]
+            if "imprint_lagrangian" in m:
+                l = m["imprint_lagrangian"]
+                r = dict(VmP=l["V_minus_um3"], VpP=l["V_plus_um3"], DP=l["depth_um"], LP=l["diagonal_um"],
+                         VmP78=np.nan, VpP78=np.nan)
+                ax, ay = vplus.axis(run)
+                rows = list(csv.DictReader(open(run + "/imprint.csv")))
+                if rows and "dh_lagrangian_um" in rows[0]:
+                    xs = sorted({float(q["x_um"]) for q in rows})
+                    change = [(np.hypot(float(q["x_um"]) - ax, float(q["y_um"]) - ay),
+                               float(q["dh_lagrangian_um"]) + l["far_field_offset_um"]) for q in rows]
+                    change = [(a, v) for a, v in change if np.isfinite(v)]
+                    r["VpP78"], r["VmP78"], _ = vplus.annulus_volumes(change, (xs[1] - xs[0]) ** 2, 7.8, 10.2)
+                return r
+    return dict(VmP=np.nan, VpP=np.nan, DP=np.nan, LP=np.nan, VmP78=np.nan, VpP78=np.nan)
+
+
 def row(run):
     m = json.load(open(run + "/summary.json"))["measurements"]
     _, change, cell, _ = vplus.load(run)
@@ -77,6 +102,7 @@ def row(run):
              Vm78=vm, Vp78=vp, hmax=m["max_depth_um"], W=m["tool_work_nJ"], nd=m["densified_bonds"],
              F=m["max_force_N"], L5=diagonal(run, 0.05))
     r.update(shape(run + "/state.h5"))
+    r.update(lagrangian(run))
     return r
 
 
@@ -85,7 +111,9 @@ def main():
             ("L", "L", 2), ("L5", "L (5 % D)", 2), ("Vm78", "V- (7.8)", 3), ("Vp78", "V+ (7.8)", 3),
             ("hmax", "max depth", 3), ("W", "work nJ", 2), ("nd", "densified bonds", 0),
             ("slip", "slip volume", 3), ("d90", "depth 90 %", 2), ("r90", "radius 90 %", 2),
-            ("dmean", "mean depth", 2), ("rmean", "mean radius", 2)]
+            ("dmean", "mean depth", 2), ("rmean", "mean radius", 2), ("VmP", "V- particles", 3),
+            ("VpP", "V+ particles", 4), ("DP", "D particles", 3), ("LP", "L particles", 2),
+            ("VmP78", "V- particles (7.8)", 3), ("VpP78", "V+ particles (7.8)", 4)]
     out = sys.argv[1]
     for force in ["0.1N", "0.5N"]:
         runs = {k: f"{out}/{k}-{force}" for k in ["dome", "coupled", "box"]}
@@ -102,7 +130,8 @@ def main():
                        ("box", "box at rest"), ("coupled", "dome")]:  # APP-1 is coupled vs dome
             if k in rows and ref in rows:
                 r, b = rows[k], rows[ref]
-                diffs = " | ".join(f"{100 * (r[c] / b[c] - 1):+.1f} %" for c, _, _ in cols)
+                # A quantity that is zero in the reference (the particles' V+ at 0.1 N) has no relative difference.
+                diffs = " | ".join(f"{100 * (r[c] / b[c] - 1):+.1f} %" if b[c] > 1e-3 else "—" for c, _, _ in cols)
                 print(f"| {k} vs {ref} | {diffs} |")
 
 
