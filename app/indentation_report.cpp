@@ -11,6 +11,7 @@
 #include "kernels/views.hpp"
 #include "kernels/strain.hpp"
 #include "solver/cracks.hpp"
+#include "solver/densified_zone.hpp"
 #include "solver/imprint.hpp"
 #include "solver/sample.hpp"
 
@@ -280,6 +281,20 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
         m["saturated_bonds"] = saturated;
         m["densified_zone_depth_um"] = zone_depth;
         m["densified_zone_radius_um"] = zone_radius;
+        const Bonds& b = model.bonds;
+        const ZoneShape shape = densifiedZoneShape(b.size(), b.i.data(), b.j.data(), b.rest_length.data(),
+                                                   b.section_radius.data(), b.slip.data(), p.initial_position.data(),
+                                                   params.axis, ind.surface_level);
+        m["densified_zone_shape"] = {
+            {"slipped_bonds", shape.bonds},
+            {"slip_volume_um3", shape.slip_volume},
+            {"depth90_um", shape.depth90},
+            {"radius90_um", shape.radius90},
+            {"mean_depth_um", shape.mean_depth},
+            {"mean_radius_um", shape.mean_radius},
+            {"method", "bond slip volumes pi r~^2 l0 e_p at the bonds' reference midpoints: depth below the free "
+                       "surface and distance from the load axis holding 90 % of the total, and their slip-volume-"
+                       "weighted means (solver/densified_zone.hpp)"}};
     }
 
     // Crack pattern (effect fracture): the released particles classified in the reference configuration

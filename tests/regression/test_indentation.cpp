@@ -103,7 +103,8 @@ TEST(Indentation, MeasureRecomputesTheRunsMetricsFromItsSavedState) {
     const nlohmann::json measured = nlohmann::json::parse(readText(again / "measure.json"))["measurements"];
     for (const char* key : {"V_minus_um3", "V_plus_um3", "V_plus_print_um3", "V_d_um3", "depth_um", "diagonal_um",
                             "max_force_N", "max_depth_um", "tool_work_nJ", "densified_volume_um3",
-                            "slider_densified_volume_um3", "densified_zone_depth_um", "imprint_lagrangian"}) {
+                            "slider_densified_volume_um3", "densified_zone_depth_um", "densified_zone_shape",
+                            "imprint_lagrangian"}) {
         EXPECT_EQ(measured[key], run[key]) << key;
     }
     EXPECT_EQ(readText(again / "imprint.csv"), readText(dir / "imprint.csv"));
