@@ -5,7 +5,8 @@ volume, binned by the reference midpoint's lateral distance rho and depth (ring 
 the depth and lateral radius that hold 90 % of the slip volume (dashed) and the zone's inner edge r = 10 um of
 the coupled model (dotted).
 
-Usage: zone_figure.py OUT FORCE PNG        (OUT as given to run.sh, FORCE 0.1N or 0.5N; /usr/bin/python3)
+Usage: zone_figure.py OUT FORCE PNG [CAPTION]   (OUT as given to run.sh, FORCE 0.1N or 0.5N; /usr/bin/python3)
+A run missing from OUT (e.g. no box) is left out; CAPTION replaces the domain study's description of the runs.
 """
 import os, sys
 import numpy as np
@@ -18,11 +19,14 @@ sys.path.insert(0, here)
 from compare import shape, slip_volumes  # noqa: E402
 
 out, force, png = sys.argv[1:4]
+caption = sys.argv[4] if len(sys.argv) > 4 else \
+    "one microstructure under the tool (hemispheres cut from the box's packing), 20 000-particle resolution"
 runs = [("clamped dome (DEM only)", "dome"), ("coupled DEM-CNEM", "coupled"),
         ("whole 30 um box (DEM only)", "box")]
+runs = [r for r in runs if os.path.exists(f"{out}/{r[1]}-{force}/state.h5")]
 edge = 7.0 if force == "0.5N" else 3.5
 bins = 20
-fig, axs = plt.subplots(1, 3, figsize=(13.5, 4.8), sharey=True, constrained_layout=True)
+fig, axs = plt.subplots(1, len(runs), figsize=(4.5 * len(runs), 4.8), sharey=True, constrained_layout=True)
 image = None
 for ax, (title, key) in zip(axs, runs):
     state = f"{out}/{key}-{force}/state.h5"
@@ -45,7 +49,6 @@ for ax, (title, key) in zip(axs, runs):
     ax.set_ylim(-edge, 0)
 axs[0].set_ylabel("z below the surface (um)")
 fig.colorbar(image, ax=axs, shrink=0.8, label="densification: bond slip volume per volume (-)")
-fig.suptitle(f"Densified zone at {force.replace('N', ' N')}, one microstructure under the tool "
-             "(hemispheres cut from the box's packing), 20 000-particle resolution", fontsize=9)
+fig.suptitle(f"Densified zone at {force.replace('N', ' N')}, {caption}", fontsize=9)
 fig.savefig(png, dpi=110)
 print("wrote", png)
