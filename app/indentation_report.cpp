@@ -416,7 +416,8 @@ void plotIndentation(std::ostream& log, const fs::path& out, bool verbose) {
         log << "vitrum: plots not made (" << script.string() << " failed; see " << (out / "plots.log").string()
             << ")\n";
     } else if (verbose) {
-        log << "  plots      " << (out / "plots").string() << "/{force_depth,imprint_top,densified_cutaway"
+        log << "  plots      " << (out / "plots").string()
+            << "/{force_depth,imprint_top,imprint_top_particles,densified_cutaway"
             << (fs::exists(out / "cracks.csv") ? ",cracks" : "") << "}.png\n";
     }
 }

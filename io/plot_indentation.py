@@ -13,6 +13,7 @@
                                snapshot (onset, unstable, full_load; final: cracks.csv)
 """
 import csv
+import math
 import json
 import os
 import sys
@@ -85,21 +86,33 @@ def main() -> int:
     fig.savefig(os.path.join(plots, "force_depth.png"))
     plt.close(fig)
 
-    x, y, dh = columns(os.path.join(out, "imprint.csv"), ["x_um", "y_um", "dh_um"])
-    lim = max(1e-6, max(abs(v) for v in dh))
-    fig, ax = plt.subplots(figsize=(5.5, 4.6), dpi=120)
-    sc = ax.scatter(x, y, c=dh, s=2, marker="s", cmap="coolwarm", norm=TwoSlopeNorm(0.0, -lim, lim), linewidths=0)
-    fig.colorbar(sc, ax=ax, label="residual surface change (um)")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (um)")
-    ax.set_ylabel("y (um)")
+    # Top view of the print (paper Fig 13): the envelope's change (imprint_top.png) and, where imprint.csv has
+    # it, the surface particles' own vertical displacement (imprint_top_particles.png; solver/imprint.hpp).
     m = summary.get("measurements", {})
-    if m:
-        ax.set_title(f"{name}: V- {m.get('V_minus_um3', 0):.3f}, V+ {m.get('V_plus_um3', 0):.3f} um3, "
-                     f"L {m.get('diagonal_um', 0):.2f} um", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(os.path.join(plots, "imprint_top.png"))
-    plt.close(fig)
+    with open(os.path.join(out, "imprint.csv"), newline="") as f:
+        header = f.readline().strip().split(",")
+    views = [("dh_um", "imprint_top.png", "residual surface change (um)", m)]
+    if "dh_lagrangian_um" in header:
+        views.append(("dh_lagrangian_um", "imprint_top_particles.png",
+                      "surface particles' vertical displacement (um)", m.get("imprint_lagrangian", {})))
+    for column, png, label, metrics in views:
+        x, y, dh = columns(os.path.join(out, "imprint.csv"), ["x_um", "y_um", column])
+        keep = [k for k, v in enumerate(dh) if math.isfinite(v)]
+        x, y, dh = [x[k] for k in keep], [y[k] for k in keep], [dh[k] for k in keep]
+        lim = max(1e-6, max(abs(v) for v in dh))
+        fig, ax = plt.subplots(figsize=(5.5, 4.6), dpi=120)
+        sc = ax.scatter(x, y, c=dh, s=2, marker="s", cmap="coolwarm", norm=TwoSlopeNorm(0.0, -lim, lim),
+                        linewidths=0)
+        fig.colorbar(sc, ax=ax, label=label)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x (um)")
+        ax.set_ylabel("y (um)")
+        if metrics:
+            ax.set_title(f"{name}: V- {metrics.get('V_minus_um3', 0):.3f}, V+ {metrics.get('V_plus_um3', 0):.3f} "
+                         f"um3, L {metrics.get('diagonal_um', 0):.2f} um", fontsize=9)
+        fig.tight_layout()
+        fig.savefig(os.path.join(plots, png))
+        plt.close(fig)
 
     x, z, r, ev, es = columns(os.path.join(out, "cutaway.csv"),
                               ["x_um", "z_um", "radius_um", "volumetric_strain", "slider_volumetric_strain"])
