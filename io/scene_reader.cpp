@@ -1044,7 +1044,8 @@ void SceneParser::readStages(const TableReader& top, Scene& scene) const {
     double last_band = 0.05;
     for (std::size_t i = 0; i < array->size(); ++i) {
         const TableReader t(*this, array->get(i)->as_table(), "stage[" + std::to_string(i) + "]", "[[stage]]");
-        t.allowOnly({"kind", "control", "speed", "until_force", "duration", "slow_band", "kinetic_tolerance"});
+        t.allowOnly({"kind", "control", "speed", "until_force", "duration", "slow_band", "kinetic_tolerance",
+                     "settle"});
         const auto kind = t.choice("kind", {"load", "hold", "unload", "relax"});
         if (!kind) {
             t.missing("kind", "one of \"load\", \"hold\", \"unload\", \"relax\"");
@@ -1063,7 +1064,8 @@ void SceneParser::readStages(const TableReader& top, Scene& scene) const {
             {"until_force", {StageKind::Load, StageKind::Unload}},
             {"duration", {StageKind::Hold, StageKind::Relax}},
             {"slow_band", {StageKind::Load}},
-            {"kinetic_tolerance", {StageKind::Relax}}};
+            {"kinetic_tolerance", {StageKind::Relax}},
+            {"settle", {StageKind::Relax}}};
         for (const auto& [key, kinds] : uses) {
             const toml::node* given = t.find(key);
             if (given && std::find(kinds.begin(), kinds.end(), st.kind) == kinds.end()) {
@@ -1127,6 +1129,15 @@ void SceneParser::readStages(const TableReader& top, Scene& scene) const {
             st.speed = toInternal(t.number("speed", kNonNegative, "in " + velocity_unit).value_or(fromInternal(last_speed, velocity_)), velocity_);
             st.duration = toInternal(t.number("duration", kNonNegative, in_time + "; 0 = until at rest").value_or(0.0), time_);
             st.kinetic_tolerance = t.number("kinetic_tolerance", kPositive).value_or(st.kinetic_tolerance);
+            st.settle = toInternal(t.number("settle", kNonNegative, in_time + "; 0 = the first time the kinetic "
+                                            "criterion holds").value_or(0.0), time_);
+            if (st.duration > 0.0 && st.settle >= st.duration) {
+                fail(t.find("settle")->source(), "key '" + t.dotted("settle") + "': expected less than " +
+                                                     t.dotted("duration") + " (" +
+                                                     std::to_string(fromInternal(st.duration, time_)) + " " +
+                                                     scene.units.time + "), or the stage could never settle "
+                                                     "before it times out");
+            }
         }
         scene.stages.push_back(st);
     }
@@ -1517,7 +1528,12 @@ std::string resolvedSceneToml(const Scene& scene) {
             case StageKind::Relax:
                 out << "kind = \"relax\"\nspeed = " << fileFloat(st.speed, velocity) << " # " << u.length << "/"
                     << u.time << "\nduration = " << fileFloat(st.duration, time) << " # " << u.time
-                    << "\nkinetic_tolerance = " << tomlFloat(st.kinetic_tolerance) << "\n\n";
+                    << "\nkinetic_tolerance = " << tomlFloat(st.kinetic_tolerance) << "\n";
+                // Written when set: a scene without it resolves as before (an older build's checkpoint restarts).
+                if (st.settle > 0.0) {
+                    out << "settle = " << fileFloat(st.settle, time) << " # " << u.time << "\n";
+                }
+                out << "\n";
                 break;
             }
         }

@@ -36,12 +36,12 @@ std::vector<double> Indenter::state() const {
     return {tip.x(),   tip.y(), tip.z(), tip_velocity,        static_cast<double>(stage), stage_start, max_force,
             depth_at_max_force, max_depth, work, relax_converged ? 1.0 : 0.0,
             reaction.force.x(), reaction.force.y(), reaction.force.z(), static_cast<double>(reaction.contacts),
-            reaction.max_overlap};
+            reaction.max_overlap, settle_start};
 }
 
 void Indenter::restore(const std::vector<double>& v) {
-    if (v.size() != 16) {
-        throw std::invalid_argument("indenter state: expected 16 values, got " + std::to_string(v.size()));
+    if (v.size() != 16 && v.size() != 17) { // 16: a checkpoint from before the relax stage's settle window
+        throw std::invalid_argument("indenter state: expected 17 values, got " + std::to_string(v.size()));
     }
     tip = Vec3(v[0], v[1], v[2]);
     tip_velocity = v[3];
@@ -55,6 +55,7 @@ void Indenter::restore(const std::vector<double>& v) {
     reaction.force = Vec3(v[11], v[12], v[13]);
     reaction.contacts = static_cast<long>(v[14]);
     reaction.max_overlap = v[15];
+    settle_start = v.size() > 16 ? v[16] : -1.0;
 }
 
 Indenter makeIndenter(const Scene& scene, const Model& model) {
@@ -137,7 +138,17 @@ void advanceIndenter(Indenter& ind, double time, double dt, double kinetic_energ
             finished = s.until_force > 0.0 ? f <= s.until_force : ind.reaction.contacts == 0;
             break;
         case StageKind::Relax:
-            if (kinetic_energy >= 0.0 && kinetic_energy <= s.kinetic_tolerance * std::max(ind.work, 1e-300)) {
+            // The kinetic energy is evaluated every 50 steps (negative in between: no news). The criterion holds
+            // from the first evaluation below the tolerance until one above it; the stage ends when it has held
+            // for `settle` (at once with settle = 0).
+            if (kinetic_energy >= 0.0) {
+                if (kinetic_energy > s.kinetic_tolerance * std::max(ind.work, 1e-300)) {
+                    ind.settle_start = -1.0;
+                } else if (ind.settle_start < 0.0) {
+                    ind.settle_start = start;
+                }
+            }
+            if (kinetic_energy >= 0.0 && ind.settle_start >= 0.0 && start - ind.settle_start >= s.settle) {
                 ind.relax_converged = true;
                 finished = true;
             } else {
@@ -150,6 +161,7 @@ void advanceIndenter(Indenter& ind, double time, double dt, double kinetic_energ
         }
         ++ind.stage;
         ind.stage_start = start;
+        ind.settle_start = -1.0;
     }
     double v = 0.0;
     if (!ind.done()) {

@@ -32,6 +32,7 @@ struct Indenter {
     double max_depth = 0.0;       ///< µm, deepest tip position below surface_level
     double work = 0.0;            ///< nJ, work done by the tool on the sample (∫ F |dz| while pressing, minus on retreat)
     bool relax_converged = false;
+    double settle_start = -1.0;   ///< ns: since when a relax stage's kinetic criterion holds (−1: it does not)
 
     // Last contact evaluation.
     ToolReaction reaction;

@@ -140,7 +140,9 @@ enum class StageKind { Load, Hold, Unload, Relax };
 ///           sample's ringing and creep do not carry the force past it; displacement control holds the tip
 ///   unload  tip moves up at `speed` until the force falls to until_force (0: contact lost)
 ///   relax   tip keeps clear; runs until the kinetic energy is below kinetic_tolerance × the tool's work, or
-///           for `duration` at most
+///           for `duration` at most. With `settle` > 0 the energy must stay below it, at every evaluation
+///           (each 50 steps), for `settle` ns: a ringing mode passes below any tolerance at its turning points,
+///           so a settle longer than half its period tells rest from a turning point
 struct StageParams {
     StageKind kind = StageKind::Load;
     double speed = 0.0;             ///< km/s (= µm/ns)
@@ -148,6 +150,7 @@ struct StageParams {
     double duration = 0.0;          ///< ns (hold; relax: the longest it may take)
     double slow_band = 0.05;        ///< load: fraction of until_force over which the tip slows down
     double kinetic_tolerance = 1e-4;///< relax: KE / tool work at which the sample counts as at rest
+    double settle = 0.0;            ///< relax: ns the kinetic criterion must hold without a break (0: once)
     bool force_control = true;      ///< hold: keep the force (speed, until_force, slow_band: the load's)
 };
 

@@ -271,5 +271,64 @@ TEST(IndentationController, AStageCreepingInItsSlowBandIsToldApartFromOneThatNee
     EXPECT_EQ(unfinishedStageAdvice(early), "raise time.duration");
 }
 
+/// A relax stage against a ringing sample: kinetic energy E(t) = A e^(−t/τ) cos²(π t/T) (A = 1e-2 of the tool's
+/// work, τ = 20 ns, T = 17 ns as the 30 µm box's mode), evaluated every 50 steps as the step does, tolerance
+/// 1e-7 of the work. Without a settle window the stage ends at the first turning point, t = T/2, while the
+/// ringing still carries 1e-2 of the work. With a window of 10 ns (longer than the dips below the tolerance,
+/// ~0.02 ns wide early on) it ends only once the peaks themselves fall below it: the envelope reaches the
+/// tolerance at t* = τ ln(A/tol) = 230 ns, the criterion holds from at most T/2 before or after t*, so the end
+/// lies in [t* − T/2 + settle, t* + T/2 + settle] (plus one evaluation interval). A checkpoint of the controller
+/// taken inside the window continues to the same end; one from before the window existed (16 values) has none.
+TEST(IndentationController, ARelaxStageWithASettleWindowIsNotFooledByARingingModesTurningPoints) {
+    const double amplitude = 1e-2, tau = 20.0, period = 17.0, tolerance = 1e-7, dt = 0.005, settle = 10.0;
+    const double t_star = tau * std::log(amplitude / tolerance);
+    auto stage = [&](double window) {
+        Indenter ind;
+        StageParams relax;
+        relax.kind = StageKind::Relax;
+        relax.kinetic_tolerance = tolerance;
+        relax.settle = window;
+        ind.stages = {relax};
+        ind.work = 1.0;
+        return ind;
+    };
+    // Runs `ind` from step `from` to the stage's end (its start time, ns); `inside` receives the controller and
+    // the step at the first evaluation, after t* − T, at which the window is open.
+    auto run = [&](Indenter ind, long from, Indenter* inside, long* inside_step) {
+        for (long step = from; step < 200000; ++step) {
+            const double t = step * dt;
+            const double c = std::cos(3.14159265358979323846 * t / period);
+            const double ke = step % 50 == 0 ? amplitude * std::exp(-t / tau) * c * c : -1.0;
+            if (inside && *inside_step < 0 && t > t_star - period && ind.settle_start >= 0.0 && step % 50 == 1) {
+                *inside = ind;
+                *inside_step = step;
+            }
+            advanceIndenter(ind, t, dt, ke);
+            if (ind.done()) {
+                EXPECT_TRUE(ind.relax_converged);
+                return t - dt;
+            }
+        }
+        ADD_FAILURE() << "the stage did not end";
+        return -1.0;
+    };
+    EXPECT_LT(run(stage(0.0), 1, nullptr, nullptr), period); // fooled: a turning point
+
+    Indenter mid;
+    long mid_step = -1;
+    const double settled = run(stage(settle), 1, &mid, &mid_step);
+    EXPECT_GE(settled, t_star - 0.5 * period + settle);
+    EXPECT_LE(settled, t_star + 0.5 * period + settle + 50 * dt);
+    ASSERT_GT(mid_step, 0);
+    const std::vector<double> state = mid.state();
+    ASSERT_EQ(state.size(), 17u);
+    Indenter restored = stage(settle);
+    restored.restore(state);
+    EXPECT_EQ(restored.settle_start, mid.settle_start);
+    EXPECT_EQ(run(restored, mid_step, nullptr, nullptr), settled); // the window survives a checkpoint
+    restored.restore(std::vector<double>(state.begin(), state.begin() + 16));
+    EXPECT_EQ(restored.settle_start, -1.0);
+}
+
 } // namespace
 } // namespace vitrum

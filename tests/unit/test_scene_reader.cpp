@@ -383,6 +383,32 @@ TEST(SceneReader, ReadsFilesAndReportsMissingOnes) {
     std::filesystem::remove_all(dir);
 }
 
+// A relax stage's settle window: read in the scene's time unit, written back only when set (a scene without it
+// resolves as it did before the key existed), refused on other stage kinds and when it cannot fit the stage.
+TEST(SceneReader, RelaxSettleWindowIsReadRoundTripsAndIsChecked) {
+    const std::string quickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+    const Scene plain = readScene(quickstart);
+    EXPECT_EQ(plain.stages[3].settle, 0.0);
+    EXPECT_EQ(resolvedSceneToml(plain).find("settle"), std::string::npos);
+    const Scene settled = readScene(quickstart, {"stage[3].settle=20.0"});
+    EXPECT_EQ(settled.stages[3].settle, 20.0); // ns, the quickstart's time unit
+    const std::string text = resolvedSceneToml(settled);
+    EXPECT_NE(text.find("settle = 20"), std::string::npos) << text;
+    EXPECT_EQ(parseScene(text, settled.source_path).stages[3].settle, 20.0);
+    auto message = [&](const std::string& set) {
+        try {
+            readScene(quickstart, {set});
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        ADD_FAILURE() << "no InputError for --set " << set;
+        return std::string();
+    };
+    expectMentions(message("stage[3].settle=100.0"), {"stage[3].settle", "expected less than stage[3].duration"});
+    expectMentions(message("stage[0].settle=1.0"), {"stage[0].settle", "not used with kind = \"load\""});
+    expectMentions(message("stage[3].settle=-1.0"), {"stage[3].settle"});
+}
+
 // [sample] cut_from: the path is resolved against the scene file and stored absolute (so the resolved scene
 // reads back the same file), the offset is converted like any length, the packer's keys beside it are
 // refused with line and key, and loadOrBuildSample returns the cut (cutPacking's count, not a new packing).

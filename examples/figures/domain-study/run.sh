@@ -32,7 +32,8 @@ half=(--set 'stage[0].until_force=0.5' --set 'stage[0].slow_band=0.005')
 # (seed 2), where the dome and the coupled model end at 1e-8 nJ or less. A kinetic-energy tolerance cannot tell
 # rest from the mode's turning points (its kinetic energy falls to ~1e-6 nJ there at 90 ns), so box-0.1N-rest
 # relaxes a fixed 120 ns: the mode's peaks fall ~2.2x in kinetic energy per half period, 300x lower by the
-# end on seed 2 (148 ns).
+# end on seed 2 (148 ns). (A relax stage's `settle` window, session 23, now tells rest from a turning point:
+# kinetic_tolerance with settle longer than half the mode's period; the study keeps its fixed 120 ns.)
 still=(--set 'stage[3].duration=120.0')
 run() {
     local name=$1
