@@ -522,6 +522,7 @@ int runScene(const RunOptions& options) {
     };
     ProgressReporter progress(log, verbose && ::isatty(STDOUT_FILENO), steps, verbose ? 10.0 : 1e30);
     progress.setTotalIsBound(model.indenter.has_value()); // the stages end the run, time.duration bounds it
+    progress.setFirstStep(first - 1);                     // a restart's earlier steps took none of this time
     g_stop_signal = 0;
     auto previous_int = std::signal(SIGINT, onStopSignal);
     auto previous_term = std::signal(SIGTERM, onStopSignal);

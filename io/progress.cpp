@@ -18,13 +18,14 @@ std::string formatDuration(double seconds) {
     return text;
 }
 
-std::string formatProgress(long step, long total, double elapsed_s, const std::string& probes, bool bound) {
+std::string formatProgress(long step, long total, double elapsed_s, const std::string& probes, bool bound,
+                           long first_step) {
     const double percent = total > 0 ? 100.0 * static_cast<double>(step) / static_cast<double>(total) : 100.0;
     char head[96];
     std::snprintf(head, sizeof head, "[%5.1f%%] step %ld/%ld  ", percent, step, total);
     std::string line = head;
-    if (step > 0 && elapsed_s > 0) {
-        const double rate = static_cast<double>(step) / elapsed_s;
+    if (step > first_step && elapsed_s > 0) {
+        const double rate = static_cast<double>(step - first_step) / elapsed_s;
         char tail[64];
         std::snprintf(tail, sizeof tail, bound ? "%.0f steps/s  ETA <= " : "%.0f steps/s  ETA ", rate);
         line += tail;
@@ -56,14 +57,14 @@ void ProgressReporter::update(long step, const std::string& probes) {
     if (now - last_report_s_ < (interactive_ ? redraw_interval_s : report_interval_s_))
         return;
     last_report_s_ = now;
-    emit(formatProgress(step, total_steps_, now - start_s_, probes, eta_is_bound_));
+    emit(formatProgress(step, total_steps_, now - start_s_, probes, eta_is_bound_, first_step_));
 }
 
 void ProgressReporter::finish() {
     if (finished_)
         return;
     finished_ = true;
-    emit(formatProgress(last_step_, total_steps_, now_s_() - start_s_, last_probes_, eta_is_bound_));
+    emit(formatProgress(last_step_, total_steps_, now_s_() - start_s_, last_probes_, eta_is_bound_, first_step_));
     if (interactive_)
         out_ << '\n';
     out_.flush();

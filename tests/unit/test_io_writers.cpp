@@ -304,6 +304,21 @@ TEST(Progress, NonInteractiveReportsOnIntervalAndAtFinish) {
                          "[100.0%] step 100/100  4 steps/s  ETA 0:00:00\n");
 }
 
+TEST(Progress, ARestartsRateCountsOnlyTheStepsThisProcessRan) {
+    // Restarted at step 9000 of 10000: 200 steps in 2 s are 100 steps/s (not 9200 / 2), 800 left -> 0:00:08.
+    EXPECT_EQ(formatProgress(9200, 10000, 2.0, "", false, 9000), "[ 92.0%] step 9200/10000  100 steps/s  ETA 0:00:08");
+    EXPECT_EQ(formatProgress(9000, 10000, 2.0, "", false, 9000), "[ 90.0%] step 9000/10000  - steps/s  ETA -");
+    double now = 0.0;
+    std::ostringstream out;
+    ProgressReporter reporter(out, false, 10000, 10.0, [&now] { return now; });
+    reporter.setFirstStep(9000);
+    now = 12.0;
+    reporter.update(9600, "");
+    reporter.finish(); // 600 steps in 12 s: 50 steps/s, 400 left -> 8 s
+    EXPECT_EQ(out.str(), "[ 96.0%] step 9600/10000  50 steps/s  ETA 0:00:08\n"
+                         "[ 96.0%] step 9600/10000  50 steps/s  ETA 0:00:08\n");
+}
+
 TEST(Progress, InteractiveRedrawsOneLine) {
     double now = 0.0;
     std::ostringstream out;
