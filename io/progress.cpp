@@ -64,7 +64,8 @@ void ProgressReporter::finish() {
     if (finished_)
         return;
     finished_ = true;
-    emit(formatProgress(last_step_, total_steps_, now_s_() - start_s_, last_probes_, eta_is_bound_, first_step_));
+    emit(formatProgress(last_step_, total_steps_, now_s_() - start_s_, last_probes_, eta_is_bound_,
+                        first_step_));
     if (interactive_)
         out_ << '\n';
     out_.flush();

@@ -10,10 +10,10 @@ namespace vitrum {
 /// `[ 42.0%] step 4200/10000  1234 steps/s  ETA 0:04:42  | <probes>`. The rate is the mean over this
 /// process so far, (step - first_step) / elapsed_s, where first_step is the step the process started from
 /// (0, or a restart's checkpoint step: the steps an earlier process ran took none of elapsed_s); before any
-/// step or time has passed, rate and ETA print as "-". The "  | probes" tail is left out when probes is empty.
-/// `bound`: the total is an upper bound (a run that ends on a condition), printed "ETA <= ...".
-std::string formatProgress(long step, long total, double elapsed_s, const std::string& probes, bool bound = false,
-                           long first_step = 0);
+/// step or time has passed, rate and ETA print as "-". The "  | probes" tail is left out when probes is
+/// empty. `bound`: the total is an upper bound (a run that ends on a condition), printed "ETA <= ...".
+std::string formatProgress(long step, long total, double elapsed_s, const std::string& probes,
+                           bool bound = false, long first_step = 0);
 
 /// h:mm:ss, seconds rounded to the nearest and negatives clamped to 0.
 std::string formatDuration(double seconds);
@@ -31,7 +31,7 @@ public:
     void update(long step, const std::string& probes);
     /// The total is an upper bound (the run ends on a condition, e.g. the last indentation stage).
     void setTotalIsBound(bool bound) { eta_is_bound_ = bound; }
-    /// The step this process starts from (a restart's checkpoint step); the rate counts only the steps after it.
+    /// The step this process starts from (a restart's checkpoint step): the rate counts the steps after it.
     void setFirstStep(long step) { first_step_ = last_step_ = step; }
     /// Always writes the final line (ending the redrawn one with a newline). Further calls do nothing.
     void finish();

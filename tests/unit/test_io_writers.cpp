@@ -306,8 +306,10 @@ TEST(Progress, NonInteractiveReportsOnIntervalAndAtFinish) {
 
 TEST(Progress, ARestartsRateCountsOnlyTheStepsThisProcessRan) {
     // Restarted at step 9000 of 10000: 200 steps in 2 s are 100 steps/s (not 9200 / 2), 800 left -> 0:00:08.
-    EXPECT_EQ(formatProgress(9200, 10000, 2.0, "", false, 9000), "[ 92.0%] step 9200/10000  100 steps/s  ETA 0:00:08");
-    EXPECT_EQ(formatProgress(9000, 10000, 2.0, "", false, 9000), "[ 90.0%] step 9000/10000  - steps/s  ETA -");
+    EXPECT_EQ(formatProgress(9200, 10000, 2.0, "", false, 9000),
+              "[ 92.0%] step 9200/10000  100 steps/s  ETA 0:00:08");
+    EXPECT_EQ(formatProgress(9000, 10000, 2.0, "", false, 9000),
+              "[ 90.0%] step 9000/10000  - steps/s  ETA -");
     double now = 0.0;
     std::ostringstream out;
     ProgressReporter reporter(out, false, 10000, 10.0, [&now] { return now; });
