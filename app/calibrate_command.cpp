@@ -19,7 +19,7 @@
 #include "io/scene_reader.hpp"
 #include "io/series_writer.hpp"
 #include "io/units.hpp"
-#include "solver/densification_calibration.hpp"
+#include "solver/calibration/densification.hpp"
 #include "solver/errors.hpp"
 
 namespace vitrum {

@@ -27,7 +27,7 @@ int calibrateElastic(const CalibrateOptions& options);
 
 /// `vitrum calibrate densification`: σ_μ^d, E_μ^t, ε_μ^pmax for Ji's macroscopic targets (P_d, P_s, ΔV/V₀)
 /// by hydrostatic sphere tests run in-process (the `run` driver on the scene with overrides), searched in
-/// the paper's order (solver/densification_calibration.hpp); finite-difference sensitivities at the result
+/// the paper's order (solver/calibration/densification.hpp); finite-difference sensitivities at the result
 /// (paper Figs 7–9); the result written as the [densification] section of the calibration file.
 struct DensificationCalibrateOptions {
     std::string scene = "examples/hydrostatic-sphere.toml";

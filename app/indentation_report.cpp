@@ -10,10 +10,10 @@
 #include "io/atomic_file.hpp"
 #include "kernels/views.hpp"
 #include "kernels/strain.hpp"
-#include "solver/cracks.hpp"
-#include "solver/densified_zone.hpp"
-#include "solver/imprint.hpp"
-#include "solver/sample.hpp"
+#include "solver/measure/cracks.hpp"
+#include "solver/measure/densified_zone.hpp"
+#include "solver/measure/imprint.hpp"
+#include "solver/model/sample.hpp"
 
 namespace vitrum {
 
@@ -90,7 +90,7 @@ nlohmann::ordered_json crackJson(const CrackPattern& cr, const CrackParams& cp) 
         "released particles (initial centres) about the load axis; contact radius a = " +
         std::to_string(cp.contact_radius) + " um, surface band " + std::to_string(cp.band) +
         " um; cone = a thin ring outside a covering >= 75 % of 24 sectors, cone_radius = median r of the band, "
-        "cone_angle = flank to free surface (0: ring only); solver/cracks.hpp";
+        "cone_angle = flank to free surface (0: ring only); solver/measure/cracks.hpp";
     return m;
 }
 
@@ -185,7 +185,7 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
     const SurfaceGrid after = surfaceEnvelope(kept_radius.size(), kept_position.data(), kept_radius.data(),
                                               params.axis, params.far_outer, params.spacing);
     const ImprintMetrics im = measureImprint(before, after, params);
-    // The same metrics on the surface particles' own vertical displacement (solver/imprint.hpp).
+    // The same metrics on the surface particles' own vertical displacement (solver/measure/imprint.hpp).
     const SurfaceGrid kept_before =
         kept_radius.size() == n ? before
                                 : surfaceEnvelope(kept_radius.size(), kept_reference.data(), kept_radius.data(),
@@ -294,11 +294,11 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
             {"mean_radius_um", shape.mean_radius},
             {"method", "bond slip volumes pi r~^2 l0 e_p at the bonds' reference midpoints: depth below the free "
                        "surface and distance from the load axis holding 90 % of the total, and their slip-volume-"
-                       "weighted means (solver/densified_zone.hpp)"}};
+                       "weighted means (solver/measure/densified_zone.hpp)"}};
     }
 
     // Crack pattern (effect fracture): the released particles classified in the reference configuration
-    // (solver/cracks.hpp), with a = half the imprint diagonal (3.5 h_max, the Vickers ratio d = 7 h, when the
+    // (solver/measure/cracks.hpp), with a = half the imprint diagonal (3.5 h_max, the Vickers ratio d = 7 h, when the
     // print has no diagonal); cracks.csv holds them for the Fig 15 views.
     if (p.fractureEnabled()) {
         // The final state about the largest contact seen (the residual print of a cracked sample is no

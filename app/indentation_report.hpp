@@ -1,4 +1,4 @@
-// Indentation results of `vitrum run` (effect indenter): the residual imprint metrics (solver/imprint.hpp),
+// Indentation results of `vitrum run` (effect indenter): the residual imprint metrics (solver/measure/imprint.hpp),
 // the densified volume from the permanent volumetric strain (kernels/strain.hpp), the files the plots are
 // made from (imprint.csv, cutaway.csv) and the plots themselves (io/plot_indentation.py).
 #pragma once
@@ -8,15 +8,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "solver/cracks.hpp"
-#include "solver/model.hpp"
+#include "solver/measure/cracks.hpp"
+#include "solver/model/model.hpp"
 
 namespace vitrum {
 
 /// The crack classification's parameters for this run: the load axis through the tip, the free surface,
 /// contact radius `contact_radius` (µm) and a surface band of 3 R̄.
 CrackParams crackParams(const Model& model, double mean_radius, double contact_radius);
-/// The crack pattern of the released particles (initial centres), solver/cracks.hpp.
+/// The crack pattern of the released particles (initial centres), solver/measure/cracks.hpp.
 CrackPattern classifyReleased(const Model& model, const CrackParams& params);
 /// The released particles (initial and current centres, release step) as CSV, written atomically.
 void writeCracksCsv(const std::filesystem::path& path, const Particles& particles);

@@ -16,7 +16,7 @@
 #include "io/units.hpp"
 #include "kernels/parallel.hpp"
 #include "solver/errors.hpp"
-#include "solver/indentation.hpp"
+#include "solver/effects/indenter.hpp"
 
 namespace vitrum {
 

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "solver/packing.hpp"
+#include "solver/model/packing.hpp"
 
 namespace vitrum {
 

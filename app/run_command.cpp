@@ -33,14 +33,14 @@
 #include "kernels/parallel.hpp"
 #include "kernels/strain.hpp"
 #include "kernels/timestep.hpp"
-#include "solver/coupling_effect.hpp"
+#include "solver/effects/coupling.hpp"
 #include "solver/errors.hpp"
-#include "solver/frequency.hpp"
-#include "solver/fracture.hpp"
-#include "solver/hydrostatic.hpp"
-#include "solver/measure.hpp"
-#include "solver/probes.hpp"
-#include "solver/step.hpp"
+#include "solver/step/frequency.hpp"
+#include "solver/effects/fracture.hpp"
+#include "solver/measure/hydrostatic.hpp"
+#include "solver/measure/uniaxial.hpp"
+#include "solver/step/probes.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 
@@ -200,7 +200,7 @@ int runScene(const RunOptions& options) {
 
     // 3. Step composed from the effects; time step from the critical estimate.
     Step step = composeStep(scene, model);
-    // ω_max by power iteration on the beam stiffness, capped by the Gershgorin bound (solver/frequency.hpp).
+    // ω_max by power iteration on the beam stiffness, capped by the Gershgorin bound (solver/step/frequency.hpp).
     // With densification and property evolution the bonds stiffen as they slip (axially up to ×1.9): the
     // estimate is then made for the stiffest state every bond can reach, so Δt never becomes optimistic.
     const bool stiffening = scene.hasEffect("densification") && scene.densification.property_evolution;
@@ -218,7 +218,7 @@ int runScene(const RunOptions& options) {
         // The tool contact adds k_n to a particle's diagonal stiffness: ω² ≤ ω_bonds² + k_n/m_min (Weyl).
         critical.omega = std::sqrt(critical.omega * critical.omega + toolContactOmegaSquared(*model.indenter, model));
     }
-    // Contacts (effect contact) add at most contactOmegaSquared to ω_max² (Weyl's inequality; solver/fracture.hpp).
+    // Contacts (effect contact) add at most contactOmegaSquared to ω_max² (Weyl's inequality; solver/effects/fracture.hpp).
     critical.omega = std::sqrt(critical.omega * critical.omega + contactOmegaSquared(scene, model));
     if (coupled_frequency) {
         critical.omega = std::max(critical.omega, coupled_frequency->cnem);

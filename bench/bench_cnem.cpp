@@ -14,7 +14,7 @@
 #include <memory>
 #include <random>
 
-#include "solver/cnem.hpp"
+#include "solver/cnem/cnem.hpp"
 
 namespace {
 

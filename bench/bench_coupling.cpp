@@ -14,8 +14,8 @@
 #include <memory>
 #include <random>
 
-#include "solver/coupling.hpp"
-#include "solver/model.hpp"
+#include "solver/cnem/bridge.hpp"
+#include "solver/model/model.hpp"
 #include "solver/scene.hpp"
 
 namespace {

@@ -13,8 +13,8 @@
 #include "kernels/contact.hpp"
 #include "kernels/fracture.hpp"
 #include "kernels/virial_stress.hpp"
-#include "solver/fracture.hpp"
-#include "solver/model.hpp"
+#include "solver/effects/fracture.hpp"
+#include "solver/model/model.hpp"
 
 namespace {
 

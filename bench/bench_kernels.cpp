@@ -39,9 +39,9 @@
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
 #include "kernels/views.hpp"
-#include "solver/model.hpp"
+#include "solver/model/model.hpp"
 #include "solver/scene.hpp"
-#include "solver/step.hpp"
+#include "solver/step/step.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/timestep.hpp"
 #include "kernels/views.hpp"
-#include "solver/model.hpp"
+#include "solver/model/model.hpp"
 #include "solver/scene.hpp"
 
 namespace vitrum_bench {

@@ -15,7 +15,7 @@
 
 #include <map>
 
-#include "solver/packing.hpp"
+#include "solver/model/packing.hpp"
 
 namespace {
 

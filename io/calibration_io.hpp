@@ -9,8 +9,8 @@
 
 #include <optional>
 
-#include "solver/calibration.hpp"
-#include "solver/densification_calibration.hpp"
+#include "solver/calibration/elastic.hpp"
+#include "solver/calibration/densification.hpp"
 #include "solver/scene.hpp"
 
 namespace vitrum {

@@ -36,9 +36,9 @@ template <class Store> constexpr std::size_t fieldCount() {
 }
 
 static_assert(sizeof(Particles) == fieldCount<Particles>() * sizeof(std::vector<double>),
-              "a member was added to Particles: add it to forEachField(Particles&) in solver/particles.hpp");
+              "a member was added to Particles: add it to forEachField(Particles&) in solver/model/particles.hpp");
 static_assert(sizeof(Bonds) == fieldCount<Bonds>() * sizeof(std::vector<double>),
-              "a member was added to Bonds: add it to forEachField(Bonds&) in solver/bonds.hpp");
+              "a member was added to Bonds: add it to forEachField(Bonds&) in solver/model/bonds.hpp");
 
 static_assert(sizeof(ContactHistory) == fieldCount<ContactHistory>() * sizeof(std::vector<double>),
               "a member was added to ContactHistory: add it to forEachField(ContactHistory&) in io/checkpoint.hpp");

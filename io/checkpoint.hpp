@@ -1,13 +1,13 @@
 // HDF5 checkpoint (state.h5, DESIGN.md §6): everything that evolves or defines a run, so that `--restart`
 // continues bit-identically. The fields of each store are described once, in the stores' forEachField tables
-// (solver/particles.hpp, solver/bonds.hpp, and the contact history's below); writing and reading both loop
+// (solver/model/particles.hpp, solver/model/bonds.hpp, and the contact history's below); writing and reading both loop
 // over them (no per-array I/O code), so a new field needs one line here.
 //
 // File layout (format version kCheckpointFormatVersion), all values in vitrum's internal units
 // (kernels/views.hpp), native types, contiguous datasets:
 //   /                 attributes: format_version (int32), vitrum_version (string), scene_name (string),
 //                     scene_sha256 (string, 64 hex), step (int64), time (double, ns), dt (double, ns)
-//   /controller       dataset (k) of doubles: the stage controller's state (solver/indentation.hpp), k ≥ 0
+//   /controller       dataset (k) of doubles: the stage controller's state (solver/effects/indenter.hpp), k ≥ 0
 //   /cnem_state       dataset (9N) of doubles, effect coupling only: the CNEM nodal displacement, velocity
 //   and
 //                     force (3N each, in that order); absent without the effect
@@ -21,9 +21,9 @@
 #include <type_traits>
 #include <vector>
 
-#include "solver/bonds.hpp"
-#include "solver/contacts.hpp"
-#include "solver/particles.hpp"
+#include "solver/model/bonds.hpp"
+#include "solver/effects/contact.hpp"
+#include "solver/model/particles.hpp"
 
 namespace vitrum {
 
@@ -44,7 +44,7 @@ struct CheckpointMeta {
 };
 
 /// The checkpoint's field table of the contact history (effect contact; see the particle store's,
-/// forEachField(Particles&) in solver/particles.hpp).
+/// forEachField(Particles&) in solver/model/particles.hpp).
 template <class C, class F>
 requires std::same_as<std::remove_const_t<C>, ContactHistory>
 constexpr void forEachField(C& c, F&& field) {

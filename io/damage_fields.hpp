@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "io/fields.hpp"
-#include "solver/particles.hpp"
+#include "solver/model/particles.hpp"
 
 namespace vitrum {
 

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "solver/packing.hpp"
+#include "solver/model/packing.hpp"
 
 namespace vitrum {
 

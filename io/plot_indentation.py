@@ -87,7 +87,7 @@ def main() -> int:
     plt.close(fig)
 
     # Top view of the print (paper Fig 13): the envelope's change (imprint_top.png) and, where imprint.csv has
-    # it, the surface particles' own vertical displacement (imprint_top_particles.png; solver/imprint.hpp).
+    # it, the surface particles' own vertical displacement (imprint_top_particles.png; solver/measure/imprint.hpp).
     m = summary.get("measurements", {})
     with open(os.path.join(out, "imprint.csv"), newline="") as f:
         header = f.readline().strip().split(",")

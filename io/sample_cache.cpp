@@ -5,7 +5,7 @@
 
 #include "io/packing_io.hpp"
 #include "solver/errors.hpp"
-#include "solver/packing.hpp"
+#include "solver/model/packing.hpp"
 
 namespace vitrum {
 

@@ -7,8 +7,8 @@
 
 #include <optional>
 
-#include "solver/model.hpp"
-#include "solver/packing.hpp"
+#include "solver/model/model.hpp"
+#include "solver/model/packing.hpp"
 
 namespace vitrum {
 

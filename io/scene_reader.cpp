@@ -705,7 +705,7 @@ void SceneParser::readSets(const TableReader& top, Scene& scene) const {
                                     tomlString(name));
         }
         if (!node->is_string() || node->as_string()->get().empty()) {
-            sets.mismatch(*node, name, "a selector string (see solver/sets.hpp)");
+            sets.mismatch(*node, name, "a selector string (see solver/model/sets.hpp)");
         }
         scene.sets.push_back({name, node->as_string()->get()});
     }

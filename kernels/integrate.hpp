@@ -18,7 +18,7 @@ void drift(const ParticleView& p, double dt);
 /// α |F_k| sign(v_k) (resp. ω_k), opposing the current motion; α ∈ [0, 1). Kinematic particles are left alone
 /// (their force is the reaction probes read). `unbalanced` (3n), when given, is the force whose magnitude
 /// sets the damping instead of p.force: the net force of the constrained motion in a coupled run, where a
-/// bridging particle's own force stays finite at rest (the constraint balances it; solver/coupling.hpp
+/// bridging particle's own force stays finite at rest (the constraint balances it; solver/cnem/bridge.hpp
 /// constrainedForces).
 void cundallLocalDamping(const ParticleView& p, double alpha, const double* unbalanced = nullptr);
 

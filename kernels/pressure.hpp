@@ -1,5 +1,5 @@
 // Hydrostatic pressure on a closed triangulated surface over particle centres (the convex hull of a set,
-// solver/surface.hpp). Each surface particle gets the pressure times its share of the surface area along
+// solver/model/surface.hpp). Each surface particle gets the pressure times its share of the surface area along
 // the outward normal: a third of every incident triangle's vector area,
 //   F_a = −P Σ_{f ∋ a} A_f n_f / 3 = −P Σ_{f ∋ a} (x_b − x_a) × (x_c − x_a) / 6,
 // which is exactly −P ∂V/∂x_a of the enclosed volume V = Σ_f x_a·(x_b × x_c)/6 (the ring of edges around a

@@ -21,7 +21,7 @@ struct UnitSystem {
 };
 
 /// The sample: a regular lattice (sc, fcc; bonds to neighbours within bond_tolerance) or a dense random
-/// packing (random; solver/packing.hpp: bonds chosen to reach the target coordination).
+/// packing (random; solver/model/packing.hpp: bonds chosen to reach the target coordination).
 struct SampleParams {
     std::string lattice = "fcc";   ///< sc | fcc | random
     std::string shape = "box";     ///< box | cylinder | sphere | hemisphere
@@ -34,7 +34,7 @@ struct SampleParams {
     double packing_fraction = 0.63;///< random: target packing fraction of the interior
     double coordination = 6.2;     ///< random: target mean coordination
     std::string file;              ///< random: packing cache (HDF5); loaded if present and matching, else written
-    /// random: instead of packing, cut the shape out of this packing file (solver/packing.hpp cutPacking;
+    /// random: instead of packing, cut the shape out of this packing file (solver/model/packing.hpp cutPacking;
     /// resolved path). The particles, bonds and packing parameters are then the source's: the keys above
     /// from `particles` to `file` are not used and the scene reader refuses them (so `packing_fraction`
     /// keeps its default 0.63, the fracture effect's φ unless [fracture] packing_fraction says otherwise).
@@ -51,7 +51,7 @@ struct MaterialParams {
     std::string calibration;       ///< the calibration file read for [material] calibration (resolved path; "" if none)
 };
 
-/// A named particle set. `where` is a geometric selector, see solver/sets.hpp for the grammar.
+/// A named particle set. `where` is a geometric selector, see solver/model/sets.hpp for the grammar.
 struct SetParams {
     std::string name;
     std::string where;
@@ -116,7 +116,7 @@ struct DensificationParams {
 };
 
 /// Effect `indenter`: a rigid tool driven along −z on the sample's axis (kernels/indenter.hpp) through the
-/// scene's stages (solver/indentation.hpp).
+/// scene's stages (solver/effects/indenter.hpp).
 struct IndenterParams {
     std::string kind = "vickers";        ///< vickers | cone | sphere
     double face_angle = 2.3736477827122884; ///< rad, vickers: angle between opposite faces (136°)
@@ -173,7 +173,7 @@ struct ContactParams {
     double skin_ratio = 0.2;        ///< Verlet skin / mean particle radius
 };
 
-/// Effect `coupling` (reference note cnem-coupling.md §4; solver/coupling_effect.hpp): the DEM hemisphere
+/// Effect `coupling` (reference note cnem-coupling.md §4; solver/effects/coupling.hpp): the DEM hemisphere
 /// embedded in an elastic CNEM box (the paper's §4 / Fig 12 set-up), tied by an Arlequin bridging zone, the
 /// radial shell R − thickness ≤ r ≤ R of the hemisphere (r from the centre of its flat face). The CNEM
 /// domain is the box [−box/2, box/2]² × [−box, 0] minus the ball of radius R − thickness; its bottom face is
@@ -191,7 +191,7 @@ struct CouplingParams {
     double poisson = 0.0;               ///< continuum ν
     double density = 0.0;               ///< continuum ρ, 10³ kg/m³; 0 = measured on the packing (Σm/V)
     std::string material_source;        ///< where E, ν come from (for the log and summary)
-    /// APP-2 zone check (solver/coupling.hpp ZoneCheck): "strict" (any slip in the zone stops the run) or
+    /// APP-2 zone check (solver/cnem/bridge.hpp ZoneCheck): "strict" (any slip in the zone stops the run) or
     /// "weighted" (the continuum-weighted slip volume may reach zone_tolerance of the total)
     std::string zone_check = "strict";
     double zone_tolerance = 0.01;

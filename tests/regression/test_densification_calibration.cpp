@@ -12,7 +12,7 @@
 
 #include "io/calibration_io.hpp"
 #include "io/scene_reader.hpp"
-#include "solver/densification_calibration.hpp"
+#include "solver/calibration/densification.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

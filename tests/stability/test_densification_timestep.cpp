@@ -1,6 +1,6 @@
 // Δt_crit as bonds stiffen (issue 4): with property evolution a saturated bond is up to 1.9× stiffer axially
 // than at creation, and Δt_crit is computed once, before anything has slipped. The driver's estimate
-// (solver/frequency.hpp highestFrequencyFor) is therefore made for the stiffest state every bond can reach.
+// (solver/step/frequency.hpp highestFrequencyFor) is therefore made for the stiffest state every bond can reach.
 // Hard case: every bond of a sphere densified (most of them saturated) by pressure, released and reloaded,
 // at half that estimate (2.5× the hydrostatic example's ratio, 5× the default).
 #include <algorithm>
@@ -14,10 +14,10 @@
 #include "kernels/integrate.hpp"
 #include "kernels/parallel.hpp"
 #include "solver/errors.hpp"
-#include "solver/frequency.hpp"
-#include "solver/hydrostatic.hpp"
-#include "solver/probes.hpp"
-#include "solver/step.hpp"
+#include "solver/step/frequency.hpp"
+#include "solver/measure/hydrostatic.hpp"
+#include "solver/step/probes.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

@@ -14,9 +14,9 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/fracture.hpp"
-#include "solver/frequency.hpp"
-#include "solver/step.hpp"
+#include "solver/effects/fracture.hpp"
+#include "solver/step/frequency.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {
@@ -108,7 +108,7 @@ TEST(FractureStability, HalfOfAllParticlesReleasedAtOnceStaysBoundedWithoutInter
 }
 
 TEST(FractureStability, NinetyPercentOfTheContactTimeStepEstimateIsStableAfterTheRelease) {
-    // The time step with contacts (solver/fracture.hpp: power iteration on the candidate contact network,
+    // The time step with contacts (solver/effects/fracture.hpp: power iteration on the candidate contact network,
     // added to the beams' ω_max²) at 0.9 of its critical value, through the same release: finite, no energy
     // creation, no interpenetration.
     const int threads = threadCount();

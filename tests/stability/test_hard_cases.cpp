@@ -13,9 +13,9 @@
 #include "kernels/integrate.hpp"
 #include "kernels/timestep.hpp"
 #include "solver/errors.hpp"
-#include "solver/frequency.hpp"
-#include "solver/probes.hpp"
-#include "solver/step.hpp"
+#include "solver/step/frequency.hpp"
+#include "solver/step/probes.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {
@@ -42,7 +42,7 @@ struct Outcome {
     double bond_strain = 0.0;  ///< max |l − l₀|/l₀ at the end
 };
 
-/// Runs `steps` steps at Δt = factor × 2/ω_max (the driver's estimate, solver/frequency.hpp).
+/// Runs `steps` steps at Δt = factor × 2/ω_max (the driver's estimate, solver/step/frequency.hpp).
 Outcome runAt(Model& m, const Scene& scene, double factor, long steps) {
     Step step = composeStep(scene, m);
     const FrequencyEstimate f = highestFrequency(m);

@@ -17,9 +17,9 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/frequency.hpp"
-#include "solver/probes.hpp"
-#include "solver/step.hpp"
+#include "solver/step/frequency.hpp"
+#include "solver/step/probes.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {

@@ -13,8 +13,8 @@
 #include <numbers>
 
 #include "kernels/parallel.hpp"
-#include "solver/coupling.hpp"
-#include "solver/model.hpp"
+#include "solver/cnem/bridge.hpp"
+#include "solver/model/model.hpp"
 #include "solver/scene.hpp"
 
 namespace vitrum::testing {

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "kernels/densification.hpp"
-#include "solver/model.hpp"
+#include "solver/model/model.hpp"
 
 namespace vitrum::testing {
 

@@ -14,7 +14,7 @@
 #include "kernels/beam.hpp"
 #include "kernels/bond_kernels.hpp"
 #include "kernels/densification.hpp"
-#include "solver/model.hpp"
+#include "solver/model/model.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

@@ -19,7 +19,7 @@
 #include "kernels/coupling_kernels.hpp"
 #include "kernels/densification.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/model.hpp"
+#include "solver/model/model.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

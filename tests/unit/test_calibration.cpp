@@ -1,7 +1,7 @@
 // Fits of the paper's eqs (5)–(6) on synthetic samples generated from known coefficients.
 #include <gtest/gtest.h>
 
-#include "solver/calibration.hpp"
+#include "solver/calibration/elastic.hpp"
 
 namespace vitrum {
 namespace {

@@ -3,7 +3,7 @@
 // file and the problem for every kind of bad input.
 #include "io/checkpoint.hpp"
 #include "solver/errors.hpp"
-#include "solver/model.hpp"
+#include "solver/model/model.hpp"
 #include "support/test_support.hpp"
 
 #include <gtest/gtest.h>

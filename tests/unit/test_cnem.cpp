@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "kernels/parallel.hpp"
-#include "solver/cnem.hpp"
+#include "solver/cnem/cnem.hpp"
 
 namespace vitrum {
 namespace {

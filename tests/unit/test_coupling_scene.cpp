@@ -11,9 +11,9 @@
 
 #include "io/scene_reader.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/coupling_effect.hpp"
+#include "solver/effects/coupling.hpp"
 #include "solver/errors.hpp"
-#include "solver/step.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {

@@ -1,4 +1,4 @@
-// Crack pattern classification (issue 9, solver/cracks.hpp) on synthetic released-particle clouds whose
+// Crack pattern classification (issue 9, solver/measure/cracks.hpp) on synthetic released-particle clouds whose
 // geometry is known exactly: a Hertzian-like cone of given surface radius and angle, radial cracks along the
 // Vickers diagonals, a median crack under the contact and a lateral sheet. Points are laid on the crack
 // surfaces at the spacing of a particle diameter (2R̄ = 0.4 µm), as released particles would be.
@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "solver/cracks.hpp"
+#include "solver/measure/cracks.hpp"
 
 namespace vitrum {
 namespace {

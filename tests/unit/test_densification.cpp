@@ -15,8 +15,8 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/densification.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/bonds.hpp"
-#include "solver/particles.hpp"
+#include "solver/model/bonds.hpp"
+#include "solver/model/particles.hpp"
 #include "solver/scene.hpp"
 #include "support/test_support.hpp"
 

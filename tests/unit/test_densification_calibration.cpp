@@ -10,7 +10,7 @@
 #include "io/calibration_io.hpp"
 #include "io/scene_reader.hpp"
 #include "kernels/densification.hpp"
-#include "solver/densification_calibration.hpp"
+#include "solver/calibration/densification.hpp"
 #include "solver/errors.hpp"
 #include "support/test_support.hpp"
 

@@ -7,8 +7,8 @@
 #include "io/calibration_io.hpp"
 #include "io/scene_reader.hpp"
 #include "solver/errors.hpp"
-#include "solver/model.hpp"
-#include "solver/step.hpp"
+#include "solver/model/model.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {

@@ -1,11 +1,11 @@
-// The densified zone's shape (solver/densified_zone.hpp) against closed forms.
+// The densified zone's shape (solver/measure/densified_zone.hpp) against closed forms.
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "solver/densified_zone.hpp"
+#include "solver/measure/densified_zone.hpp"
 
 namespace vitrum {
 namespace {

@@ -17,8 +17,8 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/parallel.hpp"
 #include "solver/errors.hpp"
-#include "solver/fracture.hpp"
-#include "solver/step.hpp"
+#include "solver/effects/fracture.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

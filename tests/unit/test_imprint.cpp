@@ -1,11 +1,11 @@
-// Residual imprint metrics (solver/imprint.hpp) on synthetic surfaces with closed-form answers.
+// Residual imprint metrics (solver/measure/imprint.hpp) on synthetic surfaces with closed-form answers.
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "solver/imprint.hpp"
+#include "solver/measure/imprint.hpp"
 
 namespace vitrum {
 namespace {

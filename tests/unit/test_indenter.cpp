@@ -1,5 +1,5 @@
 // Rigid tools: exact distances (pyramid faces, edges, apex; cone; sphere), the contact law and its reaction,
-// and the stage controller's force targeting (kernels/indenter.hpp, solver/indentation.hpp).
+// and the stage controller's force targeting (kernels/indenter.hpp, solver/effects/indenter.hpp).
 #include <cmath>
 #include <random>
 #include <string>
@@ -8,7 +8,7 @@
 
 #include "kernels/indenter.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/indentation.hpp"
+#include "solver/effects/indenter.hpp"
 
 namespace vitrum {
 namespace {

@@ -10,7 +10,7 @@
 #include "kernels/integrate.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
-#include "solver/model.hpp"
+#include "solver/model/model.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

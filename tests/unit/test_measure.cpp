@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "solver/errors.hpp"
-#include "solver/measure.hpp"
+#include "solver/measure/uniaxial.hpp"
 
 namespace vitrum {
 namespace {

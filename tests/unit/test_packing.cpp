@@ -18,11 +18,11 @@
 
 #include "io/packing_io.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/bonds.hpp"
+#include "solver/model/bonds.hpp"
 #include "solver/errors.hpp"
-#include "solver/packing.hpp"
-#include "solver/particles.hpp"
-#include "solver/sample.hpp"
+#include "solver/model/packing.hpp"
+#include "solver/model/particles.hpp"
+#include "solver/model/sample.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

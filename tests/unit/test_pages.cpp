@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "kernels/pages.hpp"
-#include "solver/model.hpp"
-#include "solver/step.hpp"
+#include "solver/model/model.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

@@ -1,4 +1,4 @@
-// Hydrostatic pressure load (kernels/pressure.hpp) on the convex hull of particle centres (solver/surface.hpp)
+// Hydrostatic pressure load (kernels/pressure.hpp) on the convex hull of particle centres (solver/model/surface.hpp)
 // and the [[load]] scene table.
 //
 // Tolerances: the hull volume of a cube's corners is a sum of a dozen products of exact small numbers, so it
@@ -12,8 +12,8 @@
 
 #include "io/scene_reader.hpp"
 #include "kernels/pressure.hpp"
-#include "solver/particles.hpp"
-#include "solver/surface.hpp"
+#include "solver/model/particles.hpp"
+#include "solver/model/surface.hpp"
 
 namespace vitrum {
 namespace {

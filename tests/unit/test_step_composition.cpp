@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "solver/step.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {
@@ -82,7 +82,7 @@ TEST(StepComposition, EachEffectAddsItsPhases) {
 } // namespace
 } // namespace vitrum
 
-#include "solver/sets.hpp"
+#include "solver/model/sets.hpp"
 
 namespace vitrum {
 namespace {

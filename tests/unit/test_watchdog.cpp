@@ -12,8 +12,8 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/integrate.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/probes.hpp"
-#include "solver/watchdog.hpp"
+#include "solver/step/probes.hpp"
+#include "solver/step/watchdog.hpp"
 
 namespace vitrum {
 namespace {

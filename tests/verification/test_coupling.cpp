@@ -21,7 +21,7 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/cnem_kernels.hpp"
 #include "kernels/integrate.hpp"
-#include "solver/frequency.hpp"
+#include "solver/step/frequency.hpp"
 #include "support/coupling_fixture.hpp"
 
 namespace vitrum {
@@ -30,7 +30,7 @@ namespace {
 using testing::CoupledBar;
 using testing::CoupledBarSpec;
 
-/// Δt = 0.9 × the DEM-alone critical step 2/ω_max (power iteration, solver/frequency.hpp).
+/// Δt = 0.9 × the DEM-alone critical step 2/ω_max (power iteration, solver/step/frequency.hpp).
 double demStep(Model& dem) {
     return 0.9 * 2.0 / highestFrequency(dem).omega;
 }
@@ -169,7 +169,7 @@ TEST(CouplingStatics, UniformStrainCrossesTheZone) {
 }
 
 // A load applied inside the bridging zone is carried by both models in the proportion of their weights
-// (note §4.3; solver/coupling.hpp splitExternalLoads): an axial force F, shared by the 9 particles of one DEM
+// (note §4.3; solver/cnem/bridge.hpp splitExternalLoads): an axial force F, shared by the 9 particles of one DEM
 // layer in the zone, on the bar clamped at the CNEM end x = 26 µm, free at x = 0, relaxed to equilibrium.
 // 1D elasticity (matched materials): no strain left of the layer, ε = −F/(EA) (A = 9 µm²) between the layer
 // and the clamp. Judged, for layers at α_d = 3/4, 7/12, 5/12, 1/4:

@@ -11,8 +11,8 @@
 #include "kernels/integrate.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
-#include "solver/probes.hpp"
-#include "solver/step.hpp"
+#include "solver/step/probes.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {

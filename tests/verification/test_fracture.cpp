@@ -20,9 +20,9 @@
 #include "kernels/integrate.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
-#include "solver/fracture.hpp"
-#include "solver/frequency.hpp"
-#include "solver/step.hpp"
+#include "solver/effects/fracture.hpp"
+#include "solver/step/frequency.hpp"
+#include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

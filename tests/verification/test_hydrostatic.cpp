@@ -9,9 +9,9 @@
 #include "io/scene_reader.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
-#include "solver/hydrostatic.hpp"
-#include "solver/model.hpp"
-#include "solver/step.hpp"
+#include "solver/measure/hydrostatic.hpp"
+#include "solver/model/model.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {

@@ -10,8 +10,8 @@
 
 #include "kernels/integrate.hpp"
 #include "kernels/timestep.hpp"
-#include "solver/probes.hpp"
-#include "solver/step.hpp"
+#include "solver/step/probes.hpp"
+#include "solver/step/step.hpp"
 
 namespace vitrum {
 namespace {

@@ -9,8 +9,8 @@
 #include <numbers>
 #include <vector>
 
-#include "solver/packing.hpp"
-#include "solver/sample.hpp"
+#include "solver/model/packing.hpp"
+#include "solver/model/sample.hpp"
 
 namespace vitrum {
 namespace {

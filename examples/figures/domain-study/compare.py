@@ -12,7 +12,7 @@ load and the tool's work; the densified bonds and
 their slip volume; and the densified zone's shape from the bonds' slip volumes (shape.py: depth and lateral
 radius holding 90 % of it, and the slip-volume-weighted mean depth and radius; reference midpoints, from the
 top face's centre). Last, the print on the surface particles' own vertical displacement (summary key
-imprint_lagrangian, solver/imprint.hpp; for a run older than that key, `build/vitrum measure RUN` writes it to
+imprint_lagrangian, solver/measure/imprint.hpp; for a run older than that key, `build/vitrum measure RUN` writes it to
 RUN/measure.json and the dh_lagrangian_um column into RUN/imprint.csv, which are read instead): V-, V+, D and L
 (flank secant) "of the particles", and V-, V+ of the particles on the common 7.8-10.2 um annulus.
 """

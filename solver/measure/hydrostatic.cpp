@@ -1,0 +1,127 @@
+#include "solver/measure/hydrostatic.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace vitrum {
+
+double HydrostaticGauge::volume(const Model& model) const {
+    return enclosedVolume(model.particles.position.data(), model.loads[load].surface.view());
+}
+
+void HydrostaticGauge::sample(const Model& model, double time) {
+    const LoadParams& p = model.loads[load].params;
+    if (p.pressure > 0.0 && p.pressureAt(time) == p.pressure) {
+        in_situ_volume = volume(model);
+        in_situ_seen = true;
+    }
+}
+
+HydrostaticGauge hydrostaticGauge(const Model& model) {
+    HydrostaticGauge g;
+    g.initial_volume = convexHullVolume(model.particles.initial_position.data(), model.sets[model.loads[0].set].members);
+    return g;
+}
+
+namespace {
+
+/// Depth of point x below the convex hull whose facets are `planes` (outward unit normal n, offset c: the
+/// hull is n·x ≤ c for every facet): min over the facets of c − n·x (exact for a point inside).
+double depthBelow(const std::vector<std::array<double, 4>>& planes, const Vec3& x) {
+    double depth = INFINITY;
+    for (const auto& f : planes) {
+        depth = std::min(depth, f[3] - (f[0] * x.x() + f[1] * x.y() + f[2] * x.z()));
+    }
+    return depth;
+}
+
+/// The surface-layer/interior split of HydrostaticResult, from the initial configuration's hull.
+void surfaceAndInterior(const Model& model, const PressureLoad& load, HydrostaticResult& r) {
+    const Particles& p = model.particles;
+    const double* x0 = p.initial_position.data();
+    std::vector<std::array<double, 4>> planes;
+    const std::vector<std::int32_t>& t = load.surface.triangle;
+    for (std::size_t f = 0; f + 2 < t.size(); f += 3) {
+        const Vec3 a = load3(x0, static_cast<std::size_t>(t[f]));
+        const Vec3 n = (load3(x0, static_cast<std::size_t>(t[f + 1])) - a)
+                           .cross(load3(x0, static_cast<std::size_t>(t[f + 2])) - a)
+                           .normalized(); // counter-clockwise seen from outside: outward
+        planes.push_back({n.x(), n.y(), n.z(), n.dot(a)});
+    }
+    double mean_radius = 0.0;
+    for (double radius : p.radius) {
+        mean_radius += radius / static_cast<double>(p.size());
+    }
+    r.mean_radius = mean_radius;
+    r.interior_depth = 2.0 * mean_radius;
+    // Interior particles and the volume change of their hull.
+    std::vector<std::int32_t> interior;
+    for (std::int32_t i : model.sets[load.set].members) {
+        if (depthBelow(planes, load3(x0, static_cast<std::size_t>(i))) >= r.interior_depth) {
+            interior.push_back(i);
+        }
+    }
+    if (interior.size() >= 4) {
+        const double v0 = convexHullVolume(x0, interior);
+        r.interior_residual_volume_change = (v0 - convexHullVolume(p.position.data(), interior)) / v0;
+    }
+    const Bonds& b = model.bonds;
+    if (!b.densificationEnabled()) {
+        return;
+    }
+    constexpr int kBins = 7; // [k R̄, (k+1) R̄) for k < 6, then ≥ 6 R̄
+    std::vector<long> count(kBins, 0), densified(kBins, 0);
+    long interior_bonds = 0, interior_densified = 0, surface_bonds = 0, surface_densified = 0;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        const Vec3 mid = 0.5 * (load3(x0, static_cast<std::size_t>(b.i[k])) + load3(x0, static_cast<std::size_t>(b.j[k])));
+        const double depth = depthBelow(planes, mid);
+        const bool slipped = b.slip[k] > 0.0;
+        const int bin = std::clamp(static_cast<int>(std::floor(depth / mean_radius)), 0, kBins - 1);
+        ++count[bin];
+        densified[bin] += slipped ? 1 : 0;
+        if (depth >= r.interior_depth) {
+            ++interior_bonds;
+            interior_densified += slipped ? 1 : 0;
+        } else {
+            ++surface_bonds;
+            surface_densified += slipped ? 1 : 0;
+        }
+    }
+    r.interior_densified_bond_fraction =
+        interior_bonds ? static_cast<double>(interior_densified) / static_cast<double>(interior_bonds) : 0.0;
+    r.surface_densified_bond_fraction =
+        surface_bonds ? static_cast<double>(surface_densified) / static_cast<double>(surface_bonds) : 0.0;
+    for (int k = 0; k < kBins; ++k) {
+        r.bonds_by_depth.push_back(count[k]);
+        r.densified_fraction_by_depth.push_back(count[k] ? static_cast<double>(densified[k]) / static_cast<double>(count[k]) : 0.0);
+    }
+}
+
+} // namespace
+
+HydrostaticResult hydrostaticResult(const HydrostaticGauge& gauge, const Model& model, double max_slip) {
+    HydrostaticResult r;
+    const PressureLoad& load = model.loads[gauge.load];
+    r.pressure = load.params.pressure;
+    r.initial_volume = gauge.initial_volume;
+    const double v0 = gauge.initial_volume;
+    r.in_situ_volume_change = gauge.in_situ_seen ? (v0 - gauge.in_situ_volume) / v0 : 0.0;
+    const double v_end = convexHullVolume(model.particles.position.data(), model.sets[load.set].members);
+    r.residual_volume_change = (v0 - v_end) / v0;
+    r.residual_density_change = v0 / v_end - 1.0;
+    const Bonds& b = model.bonds;
+    if (b.densificationEnabled() && b.size() > 0) {
+        std::size_t densified = 0, saturated = 0;
+        for (std::size_t k = 0; k < b.size(); ++k) {
+            densified += b.slip[k] > 0.0 ? 1 : 0;
+            saturated += b.slip[k] >= max_slip ? 1 : 0;
+        }
+        r.densified_bond_fraction = static_cast<double>(densified) / static_cast<double>(b.size());
+        r.saturated_bond_fraction = static_cast<double>(saturated) / static_cast<double>(b.size());
+    }
+    surfaceAndInterior(model, load, r);
+    return r;
+}
+
+} // namespace vitrum

@@ -1,0 +1,196 @@
+#include "solver/model/bonds.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "solver/model/particles.hpp"
+#include "solver/scene.hpp"
+
+namespace vitrum {
+
+void Bonds::add(const Particles& p, std::int32_t a, std::int32_t b, const MaterialParams& material) {
+    if (a > b) {
+        std::swap(a, b);
+    }
+    const std::size_t ia = static_cast<std::size_t>(a);
+    const std::size_t ib = static_cast<std::size_t>(b);
+    const Vec3 d = load3(p.position.data(), ib) - load3(p.position.data(), ia);
+    const double l0 = d.norm();
+    if (!(l0 > 0.0)) {
+        throw std::invalid_argument("cannot bond two coincident particles");
+    }
+    const Vec3 x0 = d / l0;
+    const Quat qa = loadQuat(p.orientation.data(), ia);
+    const Quat qb = loadQuat(p.orientation.data(), ib);
+    const Vec3 axis_a = qa.conjugate() * x0;
+    const Vec3 axis_b = qb.conjugate() * x0;
+    const Quat ref = qb.conjugate() * qa;
+
+    const bool densified = !i.empty() && densificationEnabled();
+    if (densified) {
+        slip.push_back(0.0);
+        reference_strain.push_back(0.0);
+    }
+    i.push_back(a);
+    j.push_back(b);
+    rest_length.push_back(l0);
+    section_radius.push_back(material.radius_ratio * 0.5 * (p.radius[ia] + p.radius[ib]));
+    young.push_back(material.beam_young);
+    shear.push_back(material.beam_young / (2.0 * (1.0 + material.beam_poisson)));
+    for (int c = 0; c < 3; ++c) {
+        axis_i.push_back(axis_a[c]);
+        axis_j.push_back(axis_b[c]);
+        force.push_back(0.0);
+        torque_i.push_back(0.0);
+        torque_j.push_back(0.0);
+    }
+    twist_ref.insert(twist_ref.end(), {ref.w(), ref.x(), ref.y(), ref.z()});
+    broken.push_back(0);
+}
+
+BondView Bonds::view() {
+    BondView v;
+    v.n = size();
+    v.i = i.data();
+    v.j = j.data();
+    v.rest_length = rest_length.data();
+    v.section_radius = section_radius.data();
+    v.young = young.data();
+    v.shear = shear.data();
+    v.axis_i = axis_i.data();
+    v.axis_j = axis_j.data();
+    v.twist_ref = twist_ref.data();
+    v.broken = broken.data();
+    v.force = force.data();
+    v.torque_i = torque_i.data();
+    v.torque_j = torque_j.data();
+    return v;
+}
+
+void Bonds::enableDensification() {
+    if (!densificationEnabled()) {
+        slip.assign(size(), 0.0);
+        reference_strain.assign(size(), 0.0);
+    }
+}
+
+DensificationView Bonds::densificationView() {
+    DensificationView v;
+    v.n = size();
+    v.slip = slip.data();
+    v.reference_strain = reference_strain.data();
+    v.young = young.data();
+    v.shear = shear.data();
+    v.section_radius = section_radius.data();
+    v.axis_i = axis_i.data();
+    v.axis_j = axis_j.data();
+    v.twist_ref = twist_ref.data();
+    return v;
+}
+
+Incidence Incidence::build(std::size_t n_particles, const Bonds& bonds) {
+    Incidence inc;
+    inc.offset.assign(n_particles + 1, 0);
+    for (std::size_t k = 0; k < bonds.size(); ++k) {
+        ++inc.offset[static_cast<std::size_t>(bonds.i[k]) + 1];
+        ++inc.offset[static_cast<std::size_t>(bonds.j[k]) + 1];
+    }
+    for (std::size_t p = 0; p < n_particles; ++p) {
+        inc.offset[p + 1] += inc.offset[p];
+    }
+    inc.entry.resize(static_cast<std::size_t>(inc.offset[n_particles]));
+    std::vector<std::int32_t> fill(inc.offset.begin(), inc.offset.end() - 1);
+    for (std::size_t k = 0; k < bonds.size(); ++k) { // ascending k: entries end up in bond order
+        const auto code = static_cast<std::int32_t>(2 * k);
+        inc.entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.i[k])]++)] = code;
+        inc.entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.j[k])]++)] = code + 1;
+    }
+    inc.ready.resize(n_particles);
+    std::int32_t ready = 0;
+    for (std::size_t p = 0; p < n_particles; ++p) { // a particle's last entry is its largest bond
+        if (inc.offset[p + 1] > inc.offset[p]) {
+            ready = std::max(ready, (inc.entry[static_cast<std::size_t>(inc.offset[p + 1] - 1)] >> 1) + 1);
+        }
+        inc.ready[p] = ready;
+    }
+    return inc;
+}
+
+IncidenceView Incidence::view() const {
+    return IncidenceView{offset.size() - 1, offset.data(), entry.data(), ready.data()};
+}
+
+Bonds bondNeighbours(const Particles& p, double tolerance, const MaterialParams& material) {
+    const std::size_t n = p.size();
+    Bonds bonds;
+    if (n == 0) {
+        return bonds;
+    }
+    const double r_max = *std::max_element(p.radius.begin(), p.radius.end());
+    const double cell = 2.0 * r_max * (1.0 + tolerance);
+    Vec3 lo = load3(p.position.data(), 0);
+    Vec3 hi = lo;
+    for (std::size_t a = 1; a < n; ++a) {
+        lo = lo.cwiseMin(load3(p.position.data(), a));
+        hi = hi.cwiseMax(load3(p.position.data(), a));
+    }
+    const Eigen::Vector3i dims = (((hi - lo) / cell).array().floor().cast<int>() + 1).matrix();
+    auto cellOf = [&](const Vec3& x) {
+        Eigen::Vector3i c = ((x - lo) / cell).array().floor().cast<int>().matrix();
+        return c.cwiseMin(dims - Eigen::Vector3i::Ones()).cwiseMax(Eigen::Vector3i::Zero()).eval();
+    };
+    auto flat = [&](const Eigen::Vector3i& c) {
+        return (static_cast<std::size_t>(c.z()) * static_cast<std::size_t>(dims.y()) + static_cast<std::size_t>(c.y())) *
+                   static_cast<std::size_t>(dims.x()) + static_cast<std::size_t>(c.x());
+    };
+    const std::size_t n_cells = static_cast<std::size_t>(dims.x()) * dims.y() * dims.z();
+    std::vector<std::int32_t> head(n_cells + 1, 0);
+    std::vector<std::size_t> cell_of(n);
+    for (std::size_t a = 0; a < n; ++a) {
+        cell_of[a] = flat(cellOf(load3(p.position.data(), a)));
+        ++head[cell_of[a] + 1];
+    }
+    for (std::size_t c = 0; c < n_cells; ++c) {
+        head[c + 1] += head[c];
+    }
+    std::vector<std::int32_t> members(n);
+    std::vector<std::int32_t> fill(head.begin(), head.end() - 1);
+    for (std::size_t a = 0; a < n; ++a) {
+        members[static_cast<std::size_t>(fill[cell_of[a]]++)] = static_cast<std::int32_t>(a);
+    }
+    std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
+    for (std::size_t a = 0; a < n; ++a) {
+        const Vec3 xa = load3(p.position.data(), a);
+        const Eigen::Vector3i ca = cellOf(xa);
+        for (int dz = -1; dz <= 1; ++dz) {
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const Eigen::Vector3i cb = ca + Eigen::Vector3i(dx, dy, dz);
+                    if ((cb.array() < 0).any() || (cb.array() >= dims.array()).any()) {
+                        continue;
+                    }
+                    const std::size_t c = flat(cb);
+                    for (std::int32_t m = head[c]; m < head[c + 1]; ++m) {
+                        const std::int32_t b = members[static_cast<std::size_t>(m)];
+                        if (static_cast<std::size_t>(b) <= a) {
+                            continue;
+                        }
+                        const double reach = (1.0 + tolerance) * (p.radius[a] + p.radius[static_cast<std::size_t>(b)]);
+                        if ((load3(p.position.data(), static_cast<std::size_t>(b)) - xa).squaredNorm() < reach * reach) {
+                            pairs.emplace_back(static_cast<std::int32_t>(a), b);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    std::sort(pairs.begin(), pairs.end());
+    for (const auto& [a, b] : pairs) {
+        bonds.add(p, a, b, material);
+    }
+    return bonds;
+}
+
+} // namespace vitrum

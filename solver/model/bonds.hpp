@@ -1,0 +1,91 @@
+// Owning SoA store of the cohesive beams and the particle → bond CSR incidence.
+#pragma once
+
+#include <concepts>
+#include <cstdint>
+#include <type_traits>
+#include <vector>
+
+#include "kernels/densification.hpp"
+#include "kernels/views.hpp"
+
+namespace vitrum {
+
+struct MaterialParams;
+struct Particles;
+
+struct Bonds {
+    std::vector<std::int32_t> i, j;    ///< canonical order i < j, bonds sorted by (i, j)
+    std::vector<double> rest_length;   ///< l₀, µm
+    std::vector<double> section_radius;///< r̃ (R_i + R_j)/2, µm
+    std::vector<double> young;         ///< E_μ, GPa
+    std::vector<double> shear;         ///< G_μ, GPa
+    std::vector<double> axis_i;        ///< 3n, body-frame section normals (see BondView)
+    std::vector<double> axis_j;        ///< 3n
+    std::vector<double> twist_ref;     ///< 4n
+    std::vector<std::uint8_t> broken;  ///< n
+    std::vector<double> force;         ///< 3n, per-bond loads written by the beam kernel
+    std::vector<double> torque_i;      ///< 3n
+    std::vector<double> torque_j;      ///< 3n
+    // Effect `densification` only (kernels/densification.hpp); empty otherwise, so a run without the effect
+    // allocates nothing for it. Sized by enableDensification().
+    std::vector<double> slip;             ///< n, e_p: accumulated permanent shortening
+    std::vector<double> reference_strain; ///< n, ε_r: N = E S (ε − ε_r)
+
+    std::size_t size() const { return i.size(); }
+
+    /// Appends a beam between particles a and b of `p` in its current configuration: rest length = current
+    /// centre distance (stress-free start), section radius r̃ (R_a + R_b)/2, references from the current
+    /// orientations (reference note dem-beam-model.md §2.3).
+    void add(const Particles& p, std::int32_t a, std::int32_t b, const MaterialParams& material);
+
+    BondView view();
+
+    /// Sizes the densification state (zero: undensified) if it is not sized yet.
+    void enableDensification();
+    bool densificationEnabled() const { return slip.size() == size() && reference_strain.size() == size(); }
+    /// The densification state and the properties it rewrites; requires enableDensification().
+    DensificationView densificationView();
+};
+
+struct Incidence {
+    std::vector<std::int32_t> offset; ///< n_particles + 1
+    std::vector<std::int32_t> entry;  ///< 2·bond + end
+    std::vector<std::int32_t>
+        ready; ///< n_particles: prefix maximum of (largest incident bond + 1), IncidenceView
+
+    /// Builds the CSR incidence of `bonds` over `n_particles` particles (entries of a particle in bond order).
+    static Incidence build(std::size_t n_particles, const Bonds& bonds);
+
+    /// Number of bonds incident to particle p.
+    int degree(std::size_t p) const { return offset[p + 1] - offset[p]; }
+
+    IncidenceView view() const;
+};
+
+/// Bonds every pair whose centre distance is below (1 + tolerance)(R_a + R_b), found with a cell list.
+/// Deterministic: pairs come out sorted by (i, j).
+Bonds bondNeighbours(const Particles& particles, double tolerance, const MaterialParams& material);
+
+/// The field table of the bond store (see forEachField(Particles&) in solver/model/particles.hpp).
+template <class B, class F>
+requires std::same_as<std::remove_const_t<B>, Bonds>
+constexpr void forEachField(B& b, F&& field) {
+    field("i", b.i, 1);
+    field("j", b.j, 1);
+    field("rest_length", b.rest_length, 1);
+    field("section_radius", b.section_radius, 1);
+    field("young", b.young, 1);
+    field("shear", b.shear, 1);
+    field("axis_i", b.axis_i, 3);
+    field("axis_j", b.axis_j, 3);
+    field("twist_ref", b.twist_ref, 4);
+    field("broken", b.broken, 1);
+    field("force", b.force, 3);
+    field("torque_i", b.torque_i, 3);
+    field("torque_j", b.torque_j, 3);
+    field("slip", b.slip, 1);                         // effect densification (empty without it)
+    field("reference_strain", b.reference_strain, 1); // effect densification (empty without it)
+}
+
+} // namespace vitrum

@@ -1,0 +1,166 @@
+#include "solver/model/model.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "solver/errors.hpp"
+#include "solver/model/packing.hpp"
+#include "solver/model/sample.hpp"
+#include "solver/model/sets.hpp"
+
+namespace vitrum {
+
+Vec3 BoundaryCondition::displacementAt(double t) const {
+    if (ramp_time <= 0.0 || t >= ramp_time) {
+        return value;
+    }
+    return value * (t / ramp_time);
+}
+
+Vec3 BoundaryCondition::rateAt(double t) const {
+    if (ramp_time <= 0.0 || t >= ramp_time) {
+        return Vec3::Zero();
+    }
+    return value / ramp_time;
+}
+
+std::size_t Model::setIndex(const std::string& name) const {
+    for (std::size_t k = 0; k < sets.size(); ++k) {
+        if (sets[k].name == name) {
+            return k;
+        }
+    }
+    throw std::out_of_range("no particle set named '" + name + "'");
+}
+
+BondedSample buildSample(const Scene& scene) {
+    BondedSample out;
+    if (!scene.sample.cut_from.empty()) {
+        // Reading the source packing is the io layer's (io/sample_cache.hpp loadOrBuildSample).
+        throw InputError(scene.source_path + ": key 'sample.cut_from': a cut sample is read through "
+                                             "loadOrBuildSample, not packed");
+    }
+    if (scene.sample.lattice == "random") {
+        PackingParams params = packingParamsFor(scene.sample, scene.seed);
+        Packing packing;
+        try {
+            packing = packRandom(params);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(scene.source_path + ": [sample]: " + e.what());
+        }
+        out.sample = std::move(packing.sample);
+        out.pairs = std::move(packing.bond_pairs);
+        return out;
+    }
+    out.sample = buildLatticeSample(scene.sample);
+    const Particles probe = Particles::spheres(out.sample.centres, out.sample.radii, 1.0);
+    const Bonds bonds = bondNeighbours(probe, scene.sample.bond_tolerance, scene.material);
+    for (std::size_t k = 0; k < bonds.size(); ++k) {
+        out.pairs.emplace_back(bonds.i[k], bonds.j[k]);
+    }
+    return out;
+}
+
+Model buildModel(const Scene& scene, double length_factor) {
+    return buildModel(scene, length_factor, buildSample(scene));
+}
+
+Model buildModel(const Scene& scene, double length_factor, const BondedSample& bonded) {
+    Model model;
+    model.sample = scene.sample;
+    const Sample& sample = bonded.sample;
+    if (sample.centres.size() < 2) {
+        throw InputError(scene.source_path + ": [sample] gives " + std::to_string(sample.centres.size()) +
+                         " particle(s) inside the shape; expected at least 2 (raise sample.particles)");
+    }
+    model.spacing = sample.spacing;
+    model.particles = Particles::spheres(sample.centres, sample.radii, scene.material.density);
+    for (std::size_t i = 0; i < model.particles.size(); ++i) {
+        if (distanceToBoundary(scene.sample, sample.centres[i]) < 1.5 * sample.radii[i]) {
+            model.particles.flags[i] |= kSurface;
+        }
+    }
+    for (const auto& [a, b] : bonded.pairs) {
+        const auto n = static_cast<std::int32_t>(model.particles.size());
+        if (a < 0 || b < 0 || a >= n || b >= n || a == b) {
+            throw InputError(scene.source_path + ": [sample]: bond (" + std::to_string(a) + ", " + std::to_string(b) +
+                             ") names no pair of the " + std::to_string(n) + " particles");
+        }
+        const Vec3 d = load3(model.particles.position.data(), static_cast<std::size_t>(b)) -
+                       load3(model.particles.position.data(), static_cast<std::size_t>(a));
+        if (!(d.norm() > 1e-9 * (model.particles.radius[static_cast<std::size_t>(a)] +
+                                 model.particles.radius[static_cast<std::size_t>(b)]))) {
+            throw InputError(scene.source_path + ": [sample]: particles " + std::to_string(a) + " and " +
+                             std::to_string(b) + " coincide (centre distance " + std::to_string(d.norm()) +
+                             " um) and cannot be bonded; the packing is corrupt");
+        }
+        model.bonds.add(model.particles, a, b, scene.material);
+    }
+    model.incidence = Incidence::build(model.particles.size(), model.bonds);
+
+    for (const SetParams& s : scene.sets) {
+        std::vector<SelectorClause> clauses;
+        try {
+            clauses = parseSelector(s.where);
+        } catch (const std::invalid_argument& e) {
+            throw InputError(scene.source_path + ": key 'sets." + s.name + "': " + e.what());
+        }
+        model.sets.push_back({s.name, selectParticles(clauses, model.particles, length_factor)});
+        if (model.sets.back().members.empty()) {
+            throw InputError(scene.source_path + ": key 'sets." + s.name + "': selector '" + s.where +
+                             "' matches no particle; expected at least one");
+        }
+    }
+    for (const BoundaryParams& b : scene.boundaries) {
+        BoundaryCondition bc;
+        bc.kind = b.kind;
+        bc.value = b.value;
+        bc.ramp_time = b.ramp_time;
+        try {
+            bc.set = model.setIndex(b.set);
+        } catch (const std::out_of_range& e) {
+            throw InputError(scene.source_path + ": [[boundary]] set: " + e.what());
+        }
+        model.boundaries.push_back(bc);
+    }
+    for (const LoadParams& l : scene.loads) {
+        PressureLoad load;
+        load.params = l;
+        try {
+            load.set = model.setIndex(l.set);
+            load.surface = convexHullOf(model.particles.position.data(), model.sets[load.set].members);
+        } catch (const std::out_of_range& e) {
+            throw InputError(scene.source_path + ": [[load]] set: " + e.what());
+        } catch (const std::invalid_argument& e) {
+            throw InputError(scene.source_path + ": [[load]] set '" + l.set + "': " + e.what());
+        }
+        model.loads.push_back(std::move(load));
+    }
+    initialiseBoundaries(model);
+    return model;
+}
+
+void initialiseBoundaries(Model& model) {
+    Particles& p = model.particles;
+    for (const BoundaryCondition& bc : model.boundaries) {
+        const Vec3 v = bc.kind == BoundaryKind::Velocity ? bc.value : Vec3::Zero();
+        const Vec3 rate = bc.kind == BoundaryKind::Displacement ? bc.rateAt(0.0) : Vec3::Zero();
+        for (std::int32_t m : model.sets[bc.set].members) {
+            const auto i = static_cast<std::size_t>(m);
+            p.flags[i] |= kKinematic;
+            store3(p.velocity.data(), i, v + rate);
+            store3(p.angular_velocity.data(), i, Vec3::Zero());
+        }
+    }
+}
+
+void placeModelArrays(Model& model, PagePolicy policy) {
+    auto place = [policy](const char*, auto& values, int) { placeOnPages(values, policy); };
+    forEachField(model.particles, place);
+    forEachField(model.bonds, place);
+    placeOnPages(model.incidence.offset, policy);
+    placeOnPages(model.incidence.entry, policy);
+    placeOnPages(model.incidence.ready, policy);
+}
+
+} // namespace vitrum

@@ -1,0 +1,67 @@
+// What the driver does when the stability watchdog (solver/step/probes.hpp, checkStability, run after every step on
+// the measures of the fused final kick) fires: name the particle and its most strained bond with the
+// quantities involved, suggest the likely cause, and gather the neighbourhood for a VTU. The driver writes the
+// last good state (a snapshot of the stores taken at the last recorded step that passed the check) and the
+// neighbourhood maps; this file holds the logic, io/ the writing.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "solver/model/model.hpp"
+
+namespace vitrum {
+
+/// The likely cause of an instability, with the scene keys to look at.
+enum class InstabilityCause { TimeStep, ContactStiffness, Input };
+
+const char* causeName(InstabilityCause cause);
+
+struct InstabilityDiagnosis {
+    InstabilityCause cause = InstabilityCause::TimeStep;
+    std::string particle; ///< "particle 12 at (x, y, z) um, displaced ..., |v| ... m/s, ..."
+    std::string bond;     ///< its most strained intact bond ("bond 40 (12-57): strain ..."), or why none
+    std::string advice;   ///< what to change, naming the scene keys
+    long bond_index = -1; ///< the bond named, -1 if none
+};
+
+/// Diagnoses the instability the watchdog found at `particle` (−1: none named). `dt_ratio` is Δt/Δt_crit.
+/// Heuristic, in this order: the particle's motion is prescribed by a boundary condition, it coincides with
+/// or deeply overlaps another in the initial packing, or has a non-positive radius or mass → input; it
+/// touches the tool or an unbonded neighbour → contact stiffness; the force on it is more than 10 × the sum
+/// of its bond forces → input (an external load); otherwise → time step (noted when its bonds have
+/// densified: property evolution stiffens them beyond the initial estimate).
+InstabilityDiagnosis diagnoseInstability(const Model& model, long particle, double dt_ratio);
+
+/// The particles within `radius` (µm) of the named particle's current centre (its initial one if that is not
+/// finite), with their bonds renumbered into the subset: what the driver writes as the neighbourhood VTU.
+struct Neighbourhood {
+    std::vector<std::int32_t> members;   ///< ascending particle indices
+    std::vector<double> position;        ///< 3m, µm
+    std::vector<double> radius;          ///< m, µm
+    std::vector<double> displacement;    ///< 3m, µm
+    std::vector<double> velocity;        ///< 3m, km/s
+    std::vector<double> angular_velocity;///< 3m, rad/ns
+    std::vector<double> force;           ///< 3m, mN
+    std::vector<double> culprit;         ///< m: 1 for the named particle
+    std::vector<std::int32_t> bond_i, bond_j; ///< intact bonds with both ends inside, subset indices
+    std::vector<double> bond_strain;     ///< axial strain (l − l₀)/l₀ of each
+    std::vector<double> bond_force;      ///< |F| of each, mN
+};
+Neighbourhood gatherNeighbourhood(const Model& model, long particle, double radius);
+
+/// A copy of every store the checkpoint holds, taken at a step that passed the watchdog.
+struct StateSnapshot {
+    long step = -1; ///< −1: none taken yet
+    double time = 0.0;
+    Particles particles;
+    Bonds bonds;
+    ContactList contacts;
+    std::vector<double> controller; ///< the indenter's stage controller state (empty without the effect)
+    std::vector<double> cnem_state; ///< effect coupling: the CNEM state (CheckpointMeta::cnem_state), else empty
+
+    void take(const Model& model, long step_, double time_);
+};
+
+} // namespace vitrum
