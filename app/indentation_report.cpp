@@ -41,12 +41,22 @@ const Table4Row kTable4_05N[] = {{"paper DEM", 14.534, 1.174, 13.360, 0.397, 9.3
                                  {"exp. Ji [8]", 9.971, 1.138, 8.805, 0.908, 10.371}};
 } // namespace
 
-CrackParams crackParams(const Model& model, double mean_radius, double contact_radius) {
+namespace {
+double meanRadiusOf(const Particles& p) {
+    double mean_radius = 0.0;
+    for (double r : p.radius) {
+        mean_radius += r / static_cast<double>(p.size());
+    }
+    return mean_radius;
+}
+} // namespace
+
+CrackParams crackParams(const Indenter& indenter, double mean_radius, double contact_radius) {
     CrackParams cp;
-    cp.axis = model.indenter->tip; // the load axis passes through the tip (x, y)
-    cp.surface = model.indenter->surface_level;
+    cp.axis = indenter.tip; // the load axis passes through the tip (x, y)
+    cp.surface = indenter.surface_level;
     cp.contact_radius = contact_radius;
-    if (model.indenter->tool.kind == ToolKind::Vickers) {
+    if (indenter.tool.kind == ToolKind::Vickers) {
         cp.square_half_side = contact_radius / std::sqrt(2.0); // the farthest contact point is a print corner
     }
     cp.band = 3.0 * mean_radius;
@@ -94,9 +104,9 @@ nlohmann::ordered_json crackJson(const CrackPattern& cr, const CrackParams& cp) 
     return m;
 }
 
-CrackSnapshots::CrackSnapshots(const Model& model, double mean_radius, fs::path out)
-    : mean_radius_(mean_radius), out_(std::move(out)) {
-    const std::vector<StageParams>& st = model.indenter->stages;
+CrackSnapshots::CrackSnapshots(const Model& model, const Effects& effects, fs::path out)
+    : mean_radius_(meanRadiusOf(model.particles)), out_(std::move(out)) {
+    const std::vector<StageParams>& st = effects.indenter->stages;
     for (std::size_t k = 0; k < st.size(); ++k) {
         if (st[k].kind == StageKind::Load) {
             first_load_ = static_cast<int>(k);
@@ -105,9 +115,9 @@ CrackSnapshots::CrackSnapshots(const Model& model, double mean_radius, fs::path 
     }
 }
 
-std::string CrackSnapshots::observe(const Model& model, long step, double time) {
+std::string CrackSnapshots::observe(const Model& model, const Effects& effects, long step, double time) {
     const Particles& p = model.particles;
-    const Indenter& ind = *model.indenter;
+    const Indenter& ind = *effects.indenter;
     auto snapshot = [&](const std::string& tag, const CrackPattern& cr, const CrackParams& cp) {
         writeCracksCsv(out_ / ("cracks_" + tag + ".csv"), p);
         nlohmann::ordered_json j = crackJson(cr, cp);
@@ -128,7 +138,7 @@ std::string CrackSnapshots::observe(const Model& model, long step, double time) 
     }
     if (!full_load_taken_ && first_load_ >= 0 && ind.stage > first_load_) {
         full_load_taken_ = true;
-        const CrackParams cp = crackParams(model, mean_radius_, std::max(a, last_contact_radius_));
+        const CrackParams cp = crackParams(ind, mean_radius_, std::max(a, last_contact_radius_));
         return snapshot("full_load", classifyReleased(model, cp), cp);
     }
     last_contact_radius_ = std::max(last_contact_radius_, a);
@@ -136,7 +146,7 @@ std::string CrackSnapshots::observe(const Model& model, long step, double time) 
         const double f = ind.force();
         if (onset_taken_ && !unstable_taken_ && f < (1.0 - kPopIn) * max_force_) {
             unstable_taken_ = true;
-            const CrackParams cp = crackParams(model, mean_radius_, a);
+            const CrackParams cp = crackParams(ind, mean_radius_, a);
             return snapshot("unstable", classifyReleased(model, cp), cp);
         }
         max_force_ = std::max(max_force_, f);
@@ -146,7 +156,7 @@ std::string CrackSnapshots::observe(const Model& model, long step, double time) 
         for (std::uint8_t r : p.released) released += r;
         if (released > released_seen_) {
             released_seen_ = released;
-            const CrackParams cp = crackParams(model, mean_radius_, a);
+            const CrackParams cp = crackParams(ind, mean_radius_, a);
             const CrackPattern cr = classifyReleased(model, cp);
             if (cr.cone) {
                 onset_taken_ = true;
@@ -157,9 +167,10 @@ std::string CrackSnapshots::observe(const Model& model, long step, double time) 
     return {};
 }
 
-void measureIndentation(const Scene& scene, const Model& model, double mean_radius, const fs::path& out,
+void measureIndentation(const Scene& scene, const Model& model, const Effects& effects, const fs::path& out,
                         nlohmann::ordered_json& m, CrackSnapshots* cracks) {
-    const Indenter& ind = *model.indenter;
+    const Indenter& ind = *effects.indenter;
+    const double mean_radius = meanRadiusOf(model.particles);
     const Particles& p = model.particles;
     const std::size_t n = p.size();
 
@@ -306,7 +317,7 @@ void measureIndentation(const Scene& scene, const Model& model, double mean_radi
         double a = cracks && cracks->maxContactRadius() > 0.0 ? cracks->maxContactRadius()
                    : im.diagonal > 0.0                         ? 0.5 * im.diagonal
                                                                : 3.5 * ind.max_depth;
-        const CrackParams cp = crackParams(model, mean_radius, a);
+        const CrackParams cp = crackParams(ind, mean_radius, a);
         const CrackPattern cr = classifyReleased(model, cp);
         writeCracksCsv(out / "cracks.csv", p);
         nlohmann::ordered_json final_state = crackJson(cr, cp);

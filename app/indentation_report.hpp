@@ -9,13 +9,14 @@
 #include <nlohmann/json.hpp>
 
 #include "solver/measure/cracks.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/model/model.hpp"
 
 namespace vitrum {
 
 /// The crack classification's parameters for this run: the load axis through the tip, the free surface,
 /// contact radius `contact_radius` (µm) and a surface band of 3 R̄.
-CrackParams crackParams(const Model& model, double mean_radius, double contact_radius);
+CrackParams crackParams(const Indenter& indenter, double mean_radius, double contact_radius);
 /// The crack pattern of the released particles (initial centres), solver/measure/cracks.hpp.
 CrackPattern classifyReleased(const Model& model, const CrackParams& params);
 /// The released particles (initial and current centres, release step) as CSV, written atomically.
@@ -34,12 +35,12 @@ public:
     /// without cracks (20 000-particle 30 N run: no drop at all in 90 recorded rows), so 3 % is well above
     /// its noise and below the 10-30 % pop-ins of unstable cone/median cracking in glasses.
     static constexpr double kPopIn = 0.03;
-    CrackSnapshots(const Model& model, double mean_radius, std::filesystem::path out);
+    CrackSnapshots(const Model& model, const Effects& effects, std::filesystem::path out);
     /// Call at every recorded step; returns the tag of the snapshot taken ("onset", "unstable", "full_load")
     /// or "". onset: the first closed ring while loading. unstable: the first pop-in while loading after
     /// the onset, the tool force falling kPopIn below its running maximum under a displacement-driven tool
     /// (crack growth that the load no longer has to drive; the paper's Fig 15 is the state just before).
-    std::string observe(const Model& model, long step, double time);
+    std::string observe(const Model& model, const Effects& effects, long step, double time);
     const nlohmann::ordered_json& json() const { return json_; }
     nlohmann::ordered_json& json() { return json_; }
     /// The largest contact radius seen while loading, µm (the farthest contact point from the axis).
@@ -61,8 +62,8 @@ private:
 /// `cracks` (the pop-in snapshot when there was one, else full load; `crack_instant` says which), the
 /// imprint is the surface of the bonded solid (released particles left out, as fragments are brushed off a
 /// print before it is measured), and the final state is classified too (crack_snapshots.final).
-void measureIndentation(const Scene& scene, const Model& model, double mean_radius, const std::filesystem::path& out,
-                        nlohmann::ordered_json& m, CrackSnapshots* cracks);
+void measureIndentation(const Scene& scene, const Model& model, const Effects& effects,
+                        const std::filesystem::path& out, nlohmann::ordered_json& m, CrackSnapshots* cracks);
 
 /// The metrics beside the paper's Table 4 rows for the nearest load (0.1 N or 0.5 N).
 void printImprintTable(std::ostream& log, const Scene& scene, const nlohmann::ordered_json& m);

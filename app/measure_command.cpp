@@ -10,13 +10,14 @@
 #include "app/indentation_report.hpp"
 #include "io/atomic_file.hpp"
 #include "io/checkpoint.hpp"
+#include "io/restart.hpp"
 #include "io/sample_cache.hpp"
 #include "io/scene_reader.hpp"
 #include "io/sha256.hpp"
 #include "io/units.hpp"
 #include "kernels/parallel.hpp"
 #include "solver/errors.hpp"
-#include "solver/effects/indenter.hpp"
+#include "solver/effects/effects.hpp"
 
 namespace vitrum {
 
@@ -67,28 +68,14 @@ int measureRun(const MeasureOptions& options) {
                          "scene_file " + summary["scene_file"].get<std::string>() + " is found)");
     }
 
-    // 2. The model, and the saved state into it.
+    // 2. The model and its effects, and the saved state into them (as `vitrum run --restart` restores it).
     const SampleSource source = loadOrBuildSample(scene);
     Model model = buildModel(scene, lengthFactor(scene.units.length), source.sample);
-    model.indenter = makeIndenter(scene, model); // its surface level from the reference state, as composeStep
-    const std::string state = (dir / "state.h5").string();
-    const CheckpointMeta meta = readCheckpoint(state, model.particles, model.bonds);
+    Effects effects = buildEffects(scene, model); // the indenter's surface level from the reference state
     Sha256 scene_hash; // the run hashed the resolved text it wrote: the file's bytes
     scene_hash.update(resolved);
-    if (meta.scene_sha256 != scene_hash.hexDigest()) {
-        throw InputError(state + ": checkpoint of another scene (its resolved scene hash " +
-                         meta.scene_sha256.substr(0, 12) + "... is not that of " +
-                         (dir / "resolved_scene.toml").string() + ")");
-    }
-    if (meta.controller.empty()) {
-        throw InputError(state + ": checkpoint without the indenter's controller state");
-    }
-    model.indenter->restore(meta.controller); // the tool's path: max force, max depth, work
-    model.incidence = Incidence::build(model.particles.size(), model.bonds);
-    double mean_radius = 0.0;
-    for (double r : model.particles.radius) {
-        mean_radius += r / static_cast<double>(model.particles.size());
-    }
+    const std::string state = (dir / "state.h5").string();
+    const CheckpointMeta meta = restoreRun(state, scene_hash.hexDigest(), model, effects);
 
     // 3. The measurements.
     std::error_code ec;
@@ -97,7 +84,7 @@ int measureRun(const MeasureOptions& options) {
         throw InputError("cannot create output directory '" + out.string() + "': " + ec.message());
     }
     nlohmann::ordered_json m;
-    measureIndentation(scene, model, mean_radius, out, m, nullptr);
+    measureIndentation(scene, model, effects, out, m, nullptr);
     nlohmann::ordered_json result;
     result["measured_from"] = state;
     result["step"] = meta.step;

@@ -13,6 +13,7 @@
 #include "kernels/contact.hpp"
 #include "kernels/fracture.hpp"
 #include "kernels/virial_stress.hpp"
+#include "solver/effects/contact.hpp"
 #include "solver/effects/fracture.hpp"
 #include "solver/model/model.hpp"
 
@@ -24,6 +25,7 @@ struct FractureModel {
     vitrum::Scene scene;
     vitrum::Model model;
     vitrum::LinearContact law;
+    vitrum::ContactList contacts;
 };
 
 std::unique_ptr<FractureModel> makeFractureModel(long n) {
@@ -49,8 +51,8 @@ std::unique_ptr<FractureModel> makeFractureModel(long n) {
         m.bonds.broken[k] = m.particles.released[static_cast<std::size_t>(m.bonds.i[k])] ||
                             m.particles.released[static_cast<std::size_t>(m.bonds.j[k])];
     }
-    m.contacts.skin = 0.2 * radius;
-    m.contacts.build(m.particles, m.bonds, m.incidence);
+    fm->contacts.skin = 0.2 * radius;
+    fm->contacts.build(m.particles, m.bonds, m.incidence);
     fm->law = vitrum::contactLaw(fm->scene, m);
     vitrum::computeBeamLoads(m.bonds.view(), m.particles.view());
     return fm;
@@ -70,8 +72,8 @@ void BM_VirialStress(benchmark::State& state) {
     vitrum::Model& m = fm.model;
     const vitrum::ParticleVolume volume{0.74};
     for (auto _ : state) {
-        vitrum::computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), m.contacts.incidenceView(),
-                                    m.contacts.view(), {}, volume, m.particles.stress.data());
+        vitrum::computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), fm.contacts.incidenceView(),
+                                    fm.contacts.view(), {}, volume, m.particles.stress.data());
         benchmark::DoNotOptimize(m.particles.stress.data());
     }
     state.SetItemsProcessed(state.iterations() * static_cast<long long>(m.particles.size()));
@@ -83,14 +85,14 @@ void BM_ContactLoads(benchmark::State& state) {
     vitrum::Model& m = fm.model;
     long long active = 0;
     for (auto _ : state) {
-        vitrum::computeContactLoads(fm.law, m.contacts.view(), m.particles.view(), m.particles.initial_position.data(),
+        vitrum::computeContactLoads(fm.law, fm.contacts.view(), m.particles.view(), m.particles.initial_position.data(),
                                     m.bonds.broken.data(), 1e-4);
-        vitrum::gatherContactLoads(m.contacts.incidenceView(), m.contacts.view(), m.particles.view());
+        vitrum::gatherContactLoads(fm.contacts.incidenceView(), fm.contacts.view(), m.particles.view());
         benchmark::DoNotOptimize(m.particles.force.data());
     }
-    for (std::uint8_t a : m.contacts.active) active += a;
-    state.SetItemsProcessed(state.iterations() * static_cast<long long>(m.contacts.size()));
-    state.counters["pairs"] = static_cast<double>(m.contacts.size());
+    for (std::uint8_t a : fm.contacts.active) active += a;
+    state.SetItemsProcessed(state.iterations() * static_cast<long long>(fm.contacts.size()));
+    state.counters["pairs"] = static_cast<double>(fm.contacts.size());
     state.counters["active"] = static_cast<double>(active);
 }
 
@@ -98,11 +100,11 @@ void BM_ContactListBuild(benchmark::State& state) {
     FractureModel& fm = fractureModelFor(state.range(0));
     vitrum::Model& m = fm.model;
     for (auto _ : state) {
-        m.contacts.build(m.particles, m.bonds, m.incidence);
-        benchmark::DoNotOptimize(m.contacts.i.data());
+        fm.contacts.build(m.particles, m.bonds, m.incidence);
+        benchmark::DoNotOptimize(fm.contacts.i.data());
     }
     state.SetItemsProcessed(state.iterations() * static_cast<long long>(m.particles.size()));
-    state.counters["pairs"] = static_cast<double>(m.contacts.size());
+    state.counters["pairs"] = static_cast<double>(fm.contacts.size());
 }
 
 /// The release criterion alone (kernels/fracture.hpp) in its steady state: every particle judges its stress,
@@ -112,8 +114,8 @@ void BM_FractureRelease(benchmark::State& state) {
     FractureModel& fm = fractureModelFor(state.range(0));
     vitrum::Model& m = fm.model;
     const vitrum::ParticleVolume volume{0.74};
-    vitrum::computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), m.contacts.incidenceView(),
-                                m.contacts.view(), {}, volume, m.particles.stress.data());
+    vitrum::computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), fm.contacts.incidenceView(),
+                                fm.contacts.view(), {}, volume, m.particles.stress.data());
     const vitrum::HydrostaticRelease law{1e9};
     const vitrum::Bonds& b = m.bonds;
     const vitrum::BondBreakView bonds{b.size(), b.i.data(), b.j.data(), m.bonds.broken.data()};

@@ -39,8 +39,11 @@
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
 #include "kernels/views.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/model/model.hpp"
+#include "solver/step/step.hpp"
 #include "solver/scene.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace {
@@ -183,8 +186,8 @@ void BM_Integrate(benchmark::State& state) {
 }
 
 /// Times step.advance on bm's model, one step per iteration (the forces of the first are computed untimed).
-void timeSteps(benchmark::State& state, vitrum::Step& step, BenchModel& bm) {
-    vitrum::StepContext ctx{bm.model, bm.dt, 0.0};
+void timeSteps(benchmark::State& state, vitrum::Step& step, BenchModel& bm, vitrum::Effects& effects) {
+    vitrum::StepContext ctx{bm.model, effects, bm.dt, 0.0};
     step.computeForces(ctx);
     for (auto _ : state) {
         ctx.time += ctx.dt;
@@ -195,8 +198,9 @@ void timeSteps(benchmark::State& state, vitrum::Step& step, BenchModel& bm) {
 
 void BM_FullStep(benchmark::State& state) {
     BenchModel& bm = modelFor(state.range(0));
-    vitrum::Step step = vitrum::composeStep(bm.scene, bm.model);
-    timeSteps(state, step, bm);
+    vitrum::Effects bm_model_fx = buildEffects(bm.scene, bm.model);
+    vitrum::Step step = vitrum::composeStep(bm.model, bm_model_fx);
+    timeSteps(state, step, bm, bm_model_fx);
     const double nb = static_cast<double>(bm.model.bonds.size());
     const double np = static_cast<double>(bm.model.particles.size());
     const double touched = kBeamTouchedBytes * nb + kGatherTouchedPerBond * nb + kGatherPerParticle * np +
@@ -322,8 +326,9 @@ void BM_Pages(benchmark::State& state) {
     BenchModel& bm = *own;
     const bool huge = state.range(1) != 0;
     vitrum::placeModelArrays(bm.model, huge ? vitrum::PagePolicy::Huge : vitrum::PagePolicy::Small);
-    vitrum::Step step = vitrum::composeStep(bm.scene, bm.model);
-    timeSteps(state, step, bm);
+    vitrum::Effects bm_model_fx = buildEffects(bm.scene, bm.model);
+    vitrum::Step step = vitrum::composeStep(bm.model, bm_model_fx);
+    timeSteps(state, step, bm, bm_model_fx);
     state.counters["huge_MiB"] = static_cast<double>(vitrum::hugePageBytes()) / (1 << 20);
     const double nb = static_cast<double>(bm.model.bonds.size());
     state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
@@ -337,8 +342,9 @@ void BM_FullStepDensified(benchmark::State& state) {
     enableDensification(bm);
     vitrum::Scene scene = bm.scene;
     scene.effects = {"elasticity", "densification"};
-    vitrum::Step step = vitrum::composeStep(scene, bm.model);
-    timeSteps(state, step, bm);
+    vitrum::Effects bm_model_fx = buildEffects(scene, bm.model);
+    vitrum::Step step = vitrum::composeStep(bm.model, bm_model_fx);
+    timeSteps(state, step, bm, bm_model_fx);
     const double nb = static_cast<double>(bm.model.bonds.size());
     const double np = static_cast<double>(bm.model.particles.size());
     const double dram = (kBeamStreamBytes + kDensifyBytes) * nb + kBeamParticleBytes * np + kGatherDramPerBond * nb +

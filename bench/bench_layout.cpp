@@ -324,7 +324,7 @@ ShuffledModel& shuffledFor(long n, int variant) {
     s.broken = permuteRows(b.broken, order, 1);
     sm->incidence = vitrum::Incidence::build(np, s);
     // On 2 MiB pages like the production model (modelFor), so that only the order differs.
-    auto place = [](const char*, auto& values, int) {
+    auto place = [](const vitrum::Field&, auto& values) {
         vitrum::placeOnPages(values, vitrum::PagePolicy::Huge);
     };
     vitrum::forEachField(sm->particles, place);

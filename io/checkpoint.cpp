@@ -4,6 +4,7 @@
 #include "io/checkpoint.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <cstdint>
 #include <filesystem>
 #include <string_view>
@@ -31,7 +32,7 @@ namespace fs = std::filesystem;
 template <class Store> constexpr std::size_t fieldCount() {
     Store store{};
     std::size_t n = 0;
-    forEachField(store, [&n](const char*, auto&, int) { ++n; });
+    forEachField(store, [&n](const Field&, auto&) { ++n; });
     return n;
 }
 
@@ -41,7 +42,8 @@ static_assert(sizeof(Bonds) == fieldCount<Bonds>() * sizeof(std::vector<double>)
               "a member was added to Bonds: add it to forEachField(Bonds&) in solver/model/bonds.hpp");
 
 static_assert(sizeof(ContactHistory) == fieldCount<ContactHistory>() * sizeof(std::vector<double>),
-              "a member was added to ContactHistory: add it to forEachField(ContactHistory&) in io/checkpoint.hpp");
+              "a member was added to ContactHistory: add it to forEachField(ContactHistory&) in "
+              "solver/effects/contact.hpp");
 
 /// Per-bond state of an optional effect (densification): sized only when the effect is on, so it may be
 /// empty; it is then stored with 0 rows and read back empty.
@@ -133,6 +135,32 @@ template <class T> bool storedTypeMatches(hid_t stored) {
     }
 }
 
+/// A field member as a run of elements of one type: a std::vector, an Eigen vector (Vec3) or a scalar. bool
+/// is stored as uint8.
+template <class M> struct Elements {
+    using T = M;
+    static T* data(M& m) { return &m; }
+    static const T* data(const M& m) { return &m; }
+    static std::size_t size(const M&) { return 1; }
+    static void resize(M&, std::size_t) {}
+};
+template <class V> struct Elements<std::vector<V>> {
+    using T = V;
+    static T* data(std::vector<V>& m) { return m.data(); }
+    static const T* data(const std::vector<V>& m) { return m.data(); }
+    static std::size_t size(const std::vector<V>& m) { return m.size(); }
+    static void resize(std::vector<V>& m, std::size_t n) { m.assign(n, V{}); }
+};
+template <> struct Elements<Vec3> {
+    using T = double;
+    static T* data(Vec3& m) { return m.data(); }
+    static const T* data(const Vec3& m) { return m.data(); }
+    static std::size_t size(const Vec3&) { return 3; }
+    static void resize(Vec3&, std::size_t) {}
+};
+template <class M> constexpr bool kResizable = false;
+template <class V> constexpr bool kResizable<std::vector<V>> = true;
+
 /// File access with a strong close degree: closing the file closes everything in it, so the close that
 /// precedes the rename really is the last write.
 Handle fileAccess() {
@@ -181,49 +209,51 @@ public:
         }
     }
 
-    void vector(hid_t where, const char* name, const std::vector<double>& values) const {
-        const hsize_t dims[1] = {values.size()};
-        Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-        Handle dataset(space.valid() ? H5Dcreate2(where, name, H5T_NATIVE_DOUBLE, space.get(), H5P_DEFAULT,
-                                                  H5P_DEFAULT, H5P_DEFAULT)
-                                     : H5I_INVALID_HID,
-                       H5Dclose);
-        if (!dataset.valid() || (!values.empty() && H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL,
-                                                             H5P_DEFAULT, values.data()) < 0)) {
-            fail(std::string("cannot write dataset '/") + name + "'");
-        }
-    }
-
-    template <class Store> void store(hid_t file, const std::string& group_name, const Store& store) const {
+    /// Group `group_name` with attribute count = `n` and one dataset (n, components) per field of `store`'s
+    /// table, each with its unit. A field of an effect the run lacks may be empty: stored with 0 rows.
+    template <class Store>
+    void store(hid_t file, const std::string& group_name, std::size_t n, Store& store) const {
         Handle group(H5Gcreate2(file, group_name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
         if (!group.valid()) {
             fail("cannot create group '/" + group_name + "'");
         }
-        const std::size_t n = store.size();
         attribute(group.get(), "count", static_cast<std::int64_t>(n));
-        forEachField(store, [&](const char* name, const auto& values, int components) {
-            using T = typename std::decay_t<decltype(values)>::value_type;
-            const std::string where = "/" + group_name + "/" + name;
-            const bool absent = values.empty() && effectField(name); // stored with 0 rows
-            if (values.size() != n * components && !absent) {
-                fail("field '" + where + "' holds " + std::to_string(values.size()) + " values, expected " +
-                     std::to_string(n) + " x " + std::to_string(components));
+        forEachField(store, [&](const Field& field, const auto& member) {
+            using M = std::decay_t<decltype(member)>;
+            using T = typename Elements<M>::T;
+            const std::string where = "/" + group_name + "/" + field.name;
+            const std::size_t size = Elements<M>::size(member);
+            const bool absent = size == 0 && effectField(field.name); // stored with 0 rows
+            if (size != n * static_cast<std::size_t>(field.components) && !absent) {
+                fail("field '" + where + "' holds " + std::to_string(size) + " values, expected " +
+                     std::to_string(n) + " x " + std::to_string(field.components));
             }
-            const hsize_t dims[2] = {absent ? 0 : n, static_cast<hsize_t>(components)};
+            const hsize_t dims[2] = {absent ? 0 : n, static_cast<hsize_t>(field.components)};
             Handle space(H5Screate_simple(2, dims, nullptr), H5Sclose);
             if (!space.valid()) {
                 fail("cannot create the dataspace of '" + where + "'");
             }
-            Handle dataset(H5Dcreate2(group.get(), name, nativeType<T>(), space.get(), H5P_DEFAULT,
+            using Stored = std::conditional_t<std::is_same_v<T, bool>, std::uint8_t, T>;
+            Handle dataset(H5Dcreate2(group.get(), field.name, nativeType<Stored>(), space.get(), H5P_DEFAULT,
                                       H5P_DEFAULT, H5P_DEFAULT),
                            H5Dclose);
             if (!dataset.valid()) {
                 fail("cannot create dataset '" + where + "'");
             }
-            if (n > 0 &&
-                H5Dwrite(dataset.get(), nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
+            std::vector<Stored> converted;
+            const Stored* values = nullptr;
+            if constexpr (std::is_same_v<T, bool>) {
+                converted.assign(size, 0);
+                for (std::size_t k = 0; k < size; ++k) converted[k] = Elements<M>::data(member)[k] ? 1 : 0;
+                values = converted.data();
+            } else {
+                values = Elements<M>::data(member);
+            }
+            if (n > 0 && !absent &&
+                H5Dwrite(dataset.get(), nativeType<Stored>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values) < 0) {
                 fail("cannot write dataset '" + where + "'");
             }
+            attribute(dataset.get(), "unit", std::string(field.unit));
         });
     }
 
@@ -306,36 +336,11 @@ public:
         return value;
     }
 
-    /// A 1D double dataset `name` of `where`, at most max_count long.
-    std::vector<double> vector(hid_t where, const char* name, std::uintmax_t max_count) const {
-        const std::string path = std::string("/") + name;
-        if (H5Lexists(where, name, H5P_DEFAULT) <= 0) {
-            fail("missing dataset '" + path + "'");
-        }
-        Handle dataset(H5Dopen2(where, name, H5P_DEFAULT), H5Dclose);
-        if (!dataset.valid()) {
-            fail("cannot open dataset '" + path + "'");
-        }
-        Handle type(H5Dget_type(dataset.get()), H5Tclose);
-        Handle space(H5Dget_space(dataset.get()), H5Sclose);
-        hsize_t dims[1] = {0};
-        if (!type.valid() || !storedTypeMatches<double>(type.get()) || !space.valid() ||
-            H5Sget_simple_extent_ndims(space.get()) != 1 || H5Sget_simple_extent_dims(space.get(), dims, nullptr) != 1 ||
-            dims[0] > max_count) {
-            fail("dataset '" + path + "' is not a 1D array of doubles");
-        }
-        std::vector<double> values(dims[0]);
-        if (!values.empty() &&
-            H5Dread(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
-            fail("cannot read dataset '" + path + "' (truncated or corrupt file?)");
-        }
-        return values;
-    }
-
-    /// Reads every field of `store` from group `group_name`; `max_count` bounds the stored count (the file
-    /// size, since every entry takes at least one byte) so a corrupt count cannot ask for absurd memory.
+    /// Reads every field of `store` from group `group_name` and returns its count; `max_count` bounds the
+    /// stored count (the file size, since every entry takes at least one byte) so a corrupt count cannot ask
+    /// for absurd memory. A scalar or Vec3 field (one element) needs count 1.
     template <class Store>
-    void store(hid_t file, const std::string& group_name, Store& store, std::uintmax_t max_count) const {
+    std::size_t store(hid_t file, const std::string& group_name, Store& store, std::uintmax_t max_count) const {
         const std::string group_path = "/" + group_name;
         const htri_t exists = H5Lexists(file, group_name.c_str(), H5P_DEFAULT);
         if (exists <= 0) {
@@ -350,43 +355,57 @@ public:
             fail("'" + group_path + "' has an impossible count " + std::to_string(count));
         }
         const auto n = static_cast<std::size_t>(count);
-        forEachField(store, [&](const char* name, auto& values, int components) {
-            using T = typename std::decay_t<decltype(values)>::value_type;
-            const std::string where = group_path + "/" + name;
-            const htri_t present = H5Lexists(group.get(), name, H5P_DEFAULT);
+        forEachField(store, [&](const Field& field, auto& member) {
+            using M = std::decay_t<decltype(member)>;
+            using T = typename Elements<M>::T;
+            using Stored = std::conditional_t<std::is_same_v<T, bool>, std::uint8_t, T>;
+            const std::string where = group_path + "/" + field.name;
+            const htri_t present = H5Lexists(group.get(), field.name, H5P_DEFAULT);
             if (present < 0) {
                 fail("cannot look up dataset '" + where + "' (corrupt file?)");
             }
             if (present == 0) {
                 fail("missing dataset '" + where + "'");
             }
-            Handle dataset(H5Dopen2(group.get(), name, H5P_DEFAULT), H5Dclose);
+            Handle dataset(H5Dopen2(group.get(), field.name, H5P_DEFAULT), H5Dclose);
             if (!dataset.valid()) {
                 fail("cannot open dataset '" + where + "'");
             }
             Handle type(H5Dget_type(dataset.get()), H5Tclose);
-            if (!type.valid() || !storedTypeMatches<T>(type.get())) {
-                fail("dataset '" + where + "' is not of type " + std::string(typeName<T>()));
+            if (!type.valid() || !storedTypeMatches<Stored>(type.get())) {
+                fail("dataset '" + where + "' is not of type " + std::string(typeName<Stored>()));
             }
             Handle space(H5Dget_space(dataset.get()), H5Sclose);
             hsize_t dims[2] = {0, 0};
+            const std::size_t components = static_cast<std::size_t>(field.components);
             if (!space.valid() || H5Sget_simple_extent_ndims(space.get()) != 2 ||
                 H5Sget_simple_extent_dims(space.get(), dims, nullptr) != 2 ||
-                (dims[0] != n && !(dims[0] == 0 && effectField(name))) ||
-                dims[1] != static_cast<hsize_t>(components)) {
+                (dims[0] != n && !(dims[0] == 0 && effectField(field.name))) || dims[1] != components) {
                 fail("dataset '" + where + "' does not have shape (" + std::to_string(n) + ", " +
                      std::to_string(components) + ")");
             }
             if (dims[0] == 0 && n > 0) { // an effect's state the run did not have
-                values.clear();
+                if constexpr (kResizable<M>) {
+                    member.clear();
+                }
                 return;
             }
-            values.assign(n * components, T{});
-            if (n > 0 &&
-                H5Dread(dataset.get(), nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) < 0) {
+            if constexpr (kResizable<M>) {
+                Elements<M>::resize(member, n * components);
+            } else if (n != 1 || Elements<M>::size(member) != components) {
+                fail("dataset '" + where + "' holds " + std::to_string(n) + " elements, expected one");
+            }
+            std::vector<Stored> values(n * components);
+            if (n > 0 && H5Dread(dataset.get(), nativeType<Stored>(), H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                                 values.data()) < 0) {
                 fail("cannot read dataset '" + where + "' (truncated or corrupt file?)");
             }
+            T* out = Elements<M>::data(member);
+            for (std::size_t k = 0; k < values.size(); ++k) {
+                out[k] = static_cast<T>(values[k]);
+            }
         });
+        return n;
     }
 
 private:
@@ -395,8 +414,7 @@ private:
 
 } // namespace
 
-void writeCheckpoint(const std::string& path, const Particles& particles, const Bonds& bonds,
-                     const CheckpointMeta& meta) {
+void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const RunState& state) {
     silenceHdf5Errors();
     const Writer writer(path);
     const std::string tmp = path + ".tmp";
@@ -419,12 +437,18 @@ void writeCheckpoint(const std::string& path, const Particles& particles, const 
         writer.attribute(root, "step", static_cast<std::int64_t>(meta.step));
         writer.attribute(root, "time", meta.time);
         writer.attribute(root, "dt", meta.dt);
-        writer.store(root, "particles", particles);
-        writer.store(root, "bonds", bonds);
-        writer.store(root, "contacts", meta.contacts);
-        writer.vector(root, "controller", meta.controller);
-        if (!meta.cnem_state.empty()) {
-            writer.vector(root, "cnem_state", meta.cnem_state);
+        writer.store(root, "particles", state.particles.size(), state.particles);
+        writer.store(root, "bonds", state.bonds.size(), state.bonds);
+        if (state.contacts) {
+            ContactHistory history = state.contacts->history();
+            writer.store(root, "contacts", history.size(), history);
+        }
+        if (state.indenter) {
+            writer.store(root, "indenter", 1, *state.indenter);
+        }
+        if (state.cnem) {
+            CnemState cnem = *state.cnem;
+            writer.store(root, "cnem", cnem.size(), cnem);
         }
         if (H5Fflush(root, H5F_SCOPE_GLOBAL) < 0 || !file.close()) {
             writer.fail("cannot flush and close '" + tmp + "'");
@@ -447,7 +471,7 @@ void writeCheckpoint(const std::string& path, const Particles& particles, const 
     }
 }
 
-CheckpointMeta readCheckpoint(const std::string& path, Particles& particles, Bonds& bonds) {
+CheckpointMeta readCheckpoint(const std::string& path, RunState& state) {
     silenceHdf5Errors();
     const Reader reader(path);
 
@@ -484,7 +508,8 @@ CheckpointMeta readCheckpoint(const std::string& path, Particles& particles, Bon
     const auto version = reader.attribute<std::int32_t>(root, "format_version", owner);
     if (version != kCheckpointFormatVersion) {
         reader.fail("format version " + std::to_string(version) + ", but this vitrum reads version " +
-                    std::to_string(kCheckpointFormatVersion));
+                    std::to_string(kCheckpointFormatVersion) +
+                    (version < kCheckpointFormatVersion ? " (written by an older vitrum: rerun the scene)" : ""));
     }
     CheckpointMeta meta;
     meta.vitrum_version = reader.stringAttribute(root, "vitrum_version", owner);
@@ -494,27 +519,11 @@ CheckpointMeta readCheckpoint(const std::string& path, Particles& particles, Bon
     meta.time = reader.attribute<double>(root, "time", owner);
     meta.dt = reader.attribute<double>(root, "dt", owner);
 
-    // Read into fresh stores and hand them over only once everything is consistent.
+    // Read into fresh copies and hand them over only once everything is consistent.
     Particles p;
     Bonds b;
     reader.store(root, "particles", p, file_size);
     reader.store(root, "bonds", b, file_size);
-    if (H5Lexists(root, "contacts", H5P_DEFAULT) > 0) { // effect contact (absent in older files: no history)
-        reader.store(root, "contacts", meta.contacts, file_size);
-        for (std::size_t k = 0; k < meta.contacts.size(); ++k) {
-            if (meta.contacts.i[k] < 0 || meta.contacts.i[k] >= meta.contacts.j[k] ||
-                meta.contacts.j[k] >= static_cast<std::int32_t>(p.size())) {
-                reader.fail("contact " + std::to_string(k) + " joins particles " + std::to_string(meta.contacts.i[k]) +
-                            " and " + std::to_string(meta.contacts.j[k]) + ", but there are " +
-                            std::to_string(p.size()) + " particles");
-            }
-        }
-    }
-    meta.controller = reader.vector(root, "controller", file_size);
-    if (H5Lexists(root, "cnem_state", H5P_DEFAULT) > 0) { // effect coupling
-        meta.cnem_state = reader.vector(root, "cnem_state", file_size);
-    }
-
     const auto n_particles = static_cast<std::int64_t>(p.size());
     for (std::size_t k = 0; k < b.size(); ++k) {
         const std::int64_t i = b.i[k];
@@ -524,11 +533,57 @@ CheckpointMeta readCheckpoint(const std::string& path, Particles& particles, Bon
                         std::to_string(j) + ", but there are " + std::to_string(n_particles) + " particles");
         }
     }
+    ContactHistory history;
+    if (state.contacts && H5Lexists(root, "contacts", H5P_DEFAULT) > 0) {
+        reader.store(root, "contacts", history, file_size);
+        for (std::size_t k = 0; k < history.size(); ++k) {
+            if (history.i[k] < 0 || history.i[k] >= history.j[k] || history.j[k] >= n_particles) {
+                reader.fail("contact " + std::to_string(k) + " joins particles " + std::to_string(history.i[k]) +
+                            " and " + std::to_string(history.j[k]) + ", but there are " +
+                            std::to_string(n_particles) + " particles");
+            }
+        }
+    }
+    std::optional<Indenter> indenter;
+    if (state.indenter) {
+        if (H5Lexists(root, "indenter", H5P_DEFAULT) <= 0) {
+            reader.fail("no group '/indenter': a checkpoint without the indenter's controller state");
+        }
+        indenter = *state.indenter;
+        reader.store(root, "indenter", *indenter, file_size);
+        if (indenter->stage < 0 || indenter->stage > static_cast<int>(indenter->stages.size())) {
+            reader.fail("'/indenter/stage' is " + std::to_string(indenter->stage) + ", but the scene has " +
+                        std::to_string(indenter->stages.size()) + " stages");
+        }
+    }
+    std::vector<double> cnem_displacement, cnem_velocity, cnem_force;
+    if (state.cnem) {
+        if (H5Lexists(root, "cnem", H5P_DEFAULT) <= 0) {
+            reader.fail("no group '/cnem': a checkpoint without the continuum's state of effect coupling");
+        }
+        CnemState cnem{cnem_displacement, cnem_velocity, cnem_force};
+        const std::size_t nodes = reader.store(root, "cnem", cnem, file_size);
+        if (nodes != state.cnem->size()) {
+            reader.fail("'/cnem' holds " + std::to_string(nodes) + " nodes, but the scene's continuum has " +
+                        std::to_string(state.cnem->size()));
+        }
+    }
     if (!file.close()) {
         reader.fail("cannot close the file");
     }
-    particles = std::move(p);
-    bonds = std::move(b);
+    state.particles = std::move(p);
+    state.bonds = std::move(b);
+    if (state.contacts) {
+        state.contacts->restore(history);
+    }
+    if (state.indenter) {
+        *state.indenter = std::move(*indenter);
+    }
+    if (state.cnem) {
+        state.cnem->displacement = std::move(cnem_displacement);
+        state.cnem->velocity = std::move(cnem_velocity);
+        state.cnem->force = std::move(cnem_force);
+    }
     return meta;
 }
 

@@ -3,7 +3,12 @@
 #include "solver/errors.hpp"
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "io/atomic_file.hpp"
 
 namespace vitrum {
 
@@ -20,6 +25,41 @@ SeriesWriter::SeriesWriter(const std::string& path, std::vector<std::string> col
         std::fprintf(file_.get(), c == 0 ? "%s" : ",%s", columns_[c].c_str());
     }
     std::fputc('\n', file_.get());
+}
+
+SeriesWriter::SeriesWriter(std::string path, std::vector<std::string> columns, std::FILE* file)
+    : path_(std::move(path)), columns_(std::move(columns)), file_(file) {
+    if (!file_)
+        throw RuntimeFailure("cannot open '" + path_ + "' for appending: " + std::strerror(errno));
+}
+
+SeriesWriter SeriesWriter::continuing(const std::string& path, std::vector<std::string> columns, long through_step) {
+    std::ifstream in(path);
+    if (!in) {
+        return SeriesWriter(path, std::move(columns));
+    }
+    std::string header;
+    std::getline(in, header);
+    std::string expected;
+    for (const std::string& c : columns) {
+        expected += (expected.empty() ? "" : ",") + c;
+    }
+    if (header != expected) {
+        throw RuntimeFailure("cannot continue '" + path + "': its columns are not this run's (a series of another "
+                             "scene?); move it away to start a new one");
+    }
+    std::string kept = header + "\n";
+    std::string line;
+    while (std::getline(in, line)) {
+        // The first column is the step; rows recorded after the checkpoint are recorded again.
+        if (std::strtod(line.c_str(), nullptr) > static_cast<double>(through_step)) {
+            break;
+        }
+        kept += line + "\n";
+    }
+    in.close();
+    writeFileAtomically(path, kept);
+    return SeriesWriter(path, std::move(columns), std::fopen(path.c_str(), "a"));
 }
 
 void SeriesWriter::row(std::span<const double> values) {

@@ -169,6 +169,34 @@ void writeTetsVtu(const std::string& path, std::size_t n_points, const double* p
 
 PvdCollection::PvdCollection(std::string path) : path_(std::move(path)) {}
 
+PvdCollection PvdCollection::continuing(std::string path, double through_time) {
+    PvdCollection pvd(path);
+    std::ifstream in(path);
+    std::string line;
+    // The entries write() writes, one per line: <DataSet timestep="T" group="" part="0" file="F"/>.
+    while (std::getline(in, line)) {
+        const std::size_t t = line.find("timestep=\"");
+        const std::size_t f = line.find("file=\"");
+        if (t == std::string::npos || f == std::string::npos) {
+            continue;
+        }
+        const double time = std::strtod(line.c_str() + t + 10, nullptr);
+        const std::size_t end = line.find('"', f + 6);
+        if (end == std::string::npos || time > through_time) {
+            continue;
+        }
+        std::string file = line.substr(f + 6, end - f - 6);
+        for (const auto& [escaped, plain] : {std::pair<std::string, std::string>{"&quot;", "\""}, {"&lt;", "<"},
+                                             {"&gt;", ">"}, {"&amp;", "&"}}) {
+            for (std::size_t at = file.find(escaped); at != std::string::npos; at = file.find(escaped, at + 1)) {
+                file.replace(at, escaped.size(), plain);
+            }
+        }
+        pvd.add(time, file);
+    }
+    return pvd;
+}
+
 void PvdCollection::add(double time, const std::string& relative_file) {
     entries_.emplace_back(time, relative_file);
 }

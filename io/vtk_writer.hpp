@@ -38,6 +38,9 @@ void writeTetsVtu(const std::string& path, std::size_t n_points, const double* p
 class PvdCollection {
 public:
     explicit PvdCollection(std::string path);
+    /// Continues the collection at `path` after a restart at time `through_time` (ns): its entries up to that
+    /// time are kept, later ones dropped. A missing file starts afresh.
+    static PvdCollection continuing(std::string path, double through_time);
     /// `relative_file` is relative to the directory of the .pvd file.
     void add(double time, const std::string& relative_file);
     void write() const;

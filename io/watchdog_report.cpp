@@ -11,9 +11,9 @@ namespace vitrum {
 namespace fs = std::filesystem;
 
 std::string reportInstability(const fs::path& out, CheckpointMeta run, double dt_critical, const Model& model,
-                              const StateSnapshot& last_good, long particle) {
+                              const Effects& effects, StateSnapshot& last_good, long particle) {
     const double dt = run.dt;
-    const InstabilityDiagnosis d = diagnoseInstability(model, particle, dt / dt_critical);
+    const InstabilityDiagnosis d = diagnoseInstability(model, effects, particle, dt / dt_critical);
     std::ostringstream s;
     s << "\n  " << d.particle << ";\n  " << d.bond << ".\n  likely cause: " << causeName(d.cause) << ": "
       << d.advice << ".";
@@ -22,9 +22,7 @@ std::string reportInstability(const fs::path& out, CheckpointMeta run, double dt
         try {
             run.step = last_good.step;
             run.time = last_good.time;
-            run.controller = last_good.controller;
-            run.cnem_state = last_good.cnem_state;
-            writeCheckpoint(path.string(), last_good.particles, last_good.bonds, last_good.contacts, run);
+            writeCheckpoint(path.string(), run, last_good.state());
             s << "\n  wrote the last good state (step " << last_good.step << ", t = " << last_good.time << " ns) to "
               << path.string() << " (a checkpoint: --restart continues from it)";
         } catch (const std::exception& e) {

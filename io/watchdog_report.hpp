@@ -17,6 +17,6 @@ namespace vitrum {
 /// bond, the likely cause with advice, and what was written. A file that cannot be written is said so in the
 /// text; it never hides the instability.
 std::string reportInstability(const std::filesystem::path& out, CheckpointMeta run, double dt_critical,
-                              const Model& model, const StateSnapshot& last_good, long particle);
+                              const Model& model, const Effects& effects, StateSnapshot& last_good, long particle);
 
 } // namespace vitrum

@@ -381,8 +381,7 @@ double constraintResidual(Particles& particles, CnemModel& cnem, Bridge& bridge)
     return r;
 }
 
-void stepCoupled(Particles& particles, Bonds& bonds, const Incidence& incidence, CnemModel& cnem,
-                 Bridge& bridge, double dt) {
+void coupledKickDrift(Particles& particles, CnemModel& cnem, Bridge& bridge, double dt) {
     const ParticleView pv = bridge.demView(particles);
     const CnemStateView s = bridge.cnemState(cnem);
     halfKick(pv, dt);
@@ -390,10 +389,19 @@ void stepCoupled(Particles& particles, Bonds& bonds, const Incidence& incidence,
     projectCoupledVelocities(particles, cnem, bridge);
     drift(pv, dt);
     cnemDrift(s, dt);
-    computeCoupledForces(particles, bonds, incidence, cnem, bridge);
-    halfKick(pv, dt);
-    cnemKick(s, 0.5 * dt);
+}
+
+void coupledKick(Particles& particles, CnemModel& cnem, Bridge& bridge, double dt) {
+    halfKick(bridge.demView(particles), dt);
+    cnemKick(bridge.cnemState(cnem), 0.5 * dt);
     projectCoupledVelocities(particles, cnem, bridge);
+}
+
+void stepCoupled(Particles& particles, Bonds& bonds, const Incidence& incidence, CnemModel& cnem,
+                 Bridge& bridge, double dt) {
+    coupledKickDrift(particles, cnem, bridge, dt);
+    computeCoupledForces(particles, bonds, incidence, cnem, bridge);
+    coupledKick(particles, cnem, bridge, dt);
 }
 
 CoupledEnergy coupledEnergy(Particles& particles, Bonds& bonds, CnemModel& cnem, Bridge& bridge) {

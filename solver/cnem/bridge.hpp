@@ -20,7 +20,7 @@
 // constraint exact (no drift); the second projection makes the full-step velocities admissible (energy).
 // The DEM and CNEM force passes are independent and may later run as concurrent tasks.
 //
-// Use (a later `coupling` effect follows the same phases):
+// Use (the `coupling` effect, solver/effects/coupling.hpp, composes the same halves with the run's force phases):
 //   Bridge bridge = buildBridge(particles, bonds, cnem, zone);       // once, after both models are built
 //   computeCoupledForces(particles, bonds, incidence, cnem, bridge);
 //   for (...) stepCoupled(particles, bonds, incidence, cnem, bridge, dt);
@@ -141,8 +141,16 @@ void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge
 /// The constraint residual max_K |g_K| / Σ_i w_i N_K(x_i): the largest L2-averaged velocity mismatch, km/s.
 double constraintResidual(Particles& particles, CnemModel& cnem, Bridge& bridge);
 
-/// One coupled step of Δt (kick–drift–kick with RATTLE projections). Needs the forces of the current state
-/// (computeCoupledForces once before the first step); leaves them at the new state.
+/// The two halves of the coupled step around its force pass, the one definition of its order that the run's
+/// composed step (phases coupling.kick_drift and coupling.kick, solver/effects/coupling.hpp) and stepCoupled
+/// share: half kick of both models with the weighted masses, projection, drift of both; then, after the
+/// forces, half kick of both and projection.
+void coupledKickDrift(Particles& particles, CnemModel& cnem, Bridge& bridge, double dt);
+void coupledKick(Particles& particles, CnemModel& cnem, Bridge& bridge, double dt);
+
+/// One coupled step of Δt (kick–drift–kick with RATTLE projections): coupledKickDrift, computeCoupledForces,
+/// coupledKick. Needs the forces of the current state (computeCoupledForces once before the first step);
+/// leaves them at the new state.
 void stepCoupled(Particles& particles, Bonds& bonds, const Incidence& incidence, CnemModel& cnem,
                  Bridge& bridge, double dt);
 

@@ -4,7 +4,16 @@
 #include <array>
 #include <cmath>
 
+#include <numbers>
+#include <random>
+
+#include "kernels/coupling_kernels.hpp"
 #include "kernels/parallel.hpp"
+#include "solver/effects/coupling.hpp"
+#include "solver/model/model.hpp"
+#include "solver/effects/effects.hpp"
+#include "solver/step/step.hpp"
+#include "solver/step/time_step.hpp"
 
 namespace vitrum {
 
@@ -234,6 +243,141 @@ std::vector<std::pair<std::int32_t, std::int32_t>> pairsWithinGap(const Particle
         }
     }
     return out;
+}
+
+LinearContact contactLaw(const Scene& scene, const Model& model) {
+    const ContactParams& c = scene.contact;
+    double k_n = c.normal_stiffness;
+    if (!(k_n > 0.0)) {
+        // The mean beam axial stiffness E_μ π r_μ²/l₀ (reference note §7.2: fragments then interpenetrate no
+        // more than the bonded network deforms).
+        const Bonds& b = model.bonds;
+        for (std::size_t k = 0; k < b.size(); ++k) {
+            k_n += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.rest_length[k];
+        }
+        if (b.size() > 0) {
+            k_n /= static_cast<double>(b.size());
+        } else { // no bonds: the same for two touching mean spheres, l₀ = 2R̄
+            double mean_radius = 0.0;
+            for (double r : model.particles.radius) {
+                mean_radius += r / static_cast<double>(model.particles.size());
+            }
+            const double r_mu = scene.material.radius_ratio * mean_radius;
+            k_n = scene.material.beam_young * std::numbers::pi * r_mu * r_mu / (2.0 * mean_radius);
+        }
+    }
+    return LinearContact::make(k_n, c.restitution, c.tangential_ratio * k_n, c.friction);
+}
+
+double contactOmegaSquared(const Scene& scene, const Model& model) {
+    if (!scene.hasEffect("contact") || model.particles.size() == 0) {
+        return 0.0;
+    }
+    const Particles& p = model.particles;
+    const std::size_t n = p.size();
+    const LinearContact law = contactLaw(scene, model);
+    const double min_mass = *std::min_element(p.mass.begin(), p.mass.end());
+    const double bound = contactOmegaSquaredBound(law, min_mass); // rigorous for any contact network
+    const double zeta = law.damping_ratio;
+    const double damping = (std::sqrt(1.0 + zeta * zeta) - zeta) * (std::sqrt(1.0 + zeta * zeta) - zeta);
+    // The candidate network: every pair within the skin of touching, bonded or not, taken as a contact. Any
+    // contact network near this configuration is a subset of it, and adding a pair's (positive semi-definite)
+    // stiffness never lowers λ_max, so its λ_max bounds theirs; found by power iteration (λ_R + ‖r‖, as
+    // solver/step/frequency.cpp), deterministic (fixed seed, deterministic kernels).
+    double mean_radius = 0.0;
+    for (double r : p.radius) {
+        mean_radius += r / static_cast<double>(n);
+    }
+    ContactList candidates;
+    candidates.skin = scene.contact.skin_ratio * mean_radius;
+    candidates.build(p, model.bonds, model.incidence);
+    if (candidates.size() == 0) {
+        return bound;
+    }
+    const ContactPairView pairs = candidates.view();
+    const IncidenceView incidence = candidates.incidenceView();
+    std::vector<double> x(6 * n), y(6 * n);
+    std::mt19937_64 rng(4242);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    for (double& v : x) {
+        v = uniform(rng);
+    }
+    const auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
+        return parallelReduce("contacts.frequency_dot", a.size(), 0.0,
+                              [&](std::size_t k, double& acc) { acc += a[k] * b[k]; });
+    };
+    double norm = std::sqrt(dot(x, x));
+    for (double& v : x) {
+        v /= norm;
+    }
+    double lambda = 0.0;
+    double residual = 0.0;
+    for (int it = 0; it < 100; ++it) {
+        contactStiffnessProduct(law, pairs, incidence, p.position.data(), p.radius.data(), p.mass.data(),
+                                p.inertia.data(), p.flags.data(), x.data(), y.data());
+        lambda = dot(x, y);
+        double r2 = 0.0;
+        for (std::size_t k = 0; k < x.size(); ++k) {
+            r2 += (y[k] - lambda * x[k]) * (y[k] - lambda * x[k]);
+        }
+        residual = std::sqrt(r2);
+        norm = std::sqrt(dot(y, y));
+        if (!(norm > 0.0) || !(lambda > 0.0)) {
+            return bound;
+        }
+        for (std::size_t k = 0; k < x.size(); ++k) {
+            x[k] = y[k] / norm;
+        }
+        if (residual < 0.02 * lambda) {
+            break;
+        }
+    }
+    return std::min(bound, (lambda + residual) / damping);
+}
+
+std::optional<Contact> buildContact(const Scene& scene, const Model& model) {
+    if (!scene.hasEffect("contact")) {
+        return std::nullopt;
+    }
+    Contact c;
+    double mean_radius = 0.0;
+    for (double r : model.particles.radius) {
+        mean_radius += r / static_cast<double>(model.particles.size());
+    }
+    c.list.skin = scene.contact.skin_ratio * mean_radius;
+    c.list.stale = true;
+    c.law = contactLaw(scene, model);
+    c.restitution = scene.contact.restitution;
+    c.tangential_ratio = scene.contact.tangential_ratio;
+    return c;
+}
+
+void addContactPhases(Step& step) {
+    step.add("contacts.update", true, [](StepContext& c) {
+        c.effects.contact->list.update(c.model.particles, c.model.bonds, c.model.incidence);
+    });
+    step.add("contacts.forces", true, [](StepContext& c) {
+        Model& m = c.model;
+        ContactList& list = c.effects.contact->list;
+        const ContactPairView pairs = list.view();
+        computeContactLoads(c.effects.contact->law, pairs, m.particles.view(), m.particles.initial_position.data(),
+                            m.bonds.broken.data(), c.dt);
+        if (c.effects.coupling) { // in the bridging zone the pair loads are weighted like the bonds' (α_d at the midpoint)
+            weightContactLoads(pairs, c.effects.coupling->bridge.zone, m.particles.initial_position.data());
+        }
+        gatherContactLoads(list.incidenceView(), pairs, m.particles.view());
+    });
+}
+
+void describe(const Contact& c, const Model&, const TimeStep& ts, std::ostream& log) {
+    log << "  contact    k_n = " << c.law.normal_stiffness * 1e3 << " N/m, e = " << c.restitution
+        << ", k_t/k_n = " << c.tangential_ratio << ", mu = " << c.law.friction << ", skin " << c.list.skin
+        << " um; adds omega_c = " << std::sqrt(ts.contact_omega_squared)
+        << " rad/ns to the time-step bound (beams: " << ts.beams.omega << " rad/ns)\n";
+}
+
+void summarize(const Contact& c, const Model&, const RunClock&, nlohmann::ordered_json& summary) {
+    summary["measurements"]["contact_list_builds"] = c.list.builds;
 }
 
 } // namespace vitrum

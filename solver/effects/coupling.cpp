@@ -6,9 +6,14 @@
 #include <stdexcept>
 #include <utility>
 
+#include "kernels/cnem_kernels.hpp"
+#include "kernels/coupling_kernels.hpp"
 #include "kernels/integrate.hpp"
+#include "kernels/parallel.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/errors.hpp"
 #include "solver/step/frequency.hpp"
+#include "solver/step/time_step.hpp"
 
 namespace vitrum {
 
@@ -17,6 +22,7 @@ std::shared_ptr<CoupledContinuum> buildCoupledContinuum(const Scene& scene, cons
     const CouplingParams& p = scene.coupling;
     const double R = model.sample.radius;
     auto c = std::make_shared<CoupledContinuum>();
+    c->params = p;
     c->cavity_radius = R - p.thickness;
 
     // The packing's own mass per volume: the continuum must carry the DEM's inertia (note §4.3).
@@ -79,12 +85,81 @@ std::shared_ptr<CoupledContinuum> buildCoupledContinuum(const Scene& scene, cons
                          " um, mean particle radius sets the DEM spacing; try a thicker zone or fewer nodes)");
     }
     c->report = checkBridge(c->bridge, model.particles, model.bonds);
+    c->zone_check.mode = p.zone_check == "weighted" ? ZoneCheck::Mode::Weighted : ZoneCheck::Mode::Strict;
+    c->zone_check.tolerance = p.zone_tolerance;
     c->build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
 }
 
-CoupledFrequency coupledHighestFrequency(Model& model) {
-    CoupledContinuum& c = *model.coupling;
+std::shared_ptr<CoupledContinuum> buildCoupling(const Scene& scene, const Model& model) {
+    return scene.hasEffect("coupling") ? buildCoupledContinuum(scene, model) : nullptr;
+}
+
+void addCoupledKickDriftPhase(Step& step) {
+    step.add("coupling.kick_drift", false, [](StepContext& c) {
+        CoupledContinuum& cc = *c.effects.coupling;
+        coupledKickDrift(c.model.particles, cc.cnem, cc.bridge, c.dt);
+    });
+}
+
+void addCoupledBondPhase(Step& step, const std::string& label, std::function<void(StepContext&)> bond_loads) {
+    // The CNEM force pass as an OpenMP task beside the DEM bond kernels (both write their own arrays); the
+    // DEM loads are then weighted by α_d(mid) before the gather.
+    step.add(label + " | coupling.cnem_forces", true, [bond_loads](StepContext& c) {
+        CoupledContinuum& cc = *c.effects.coupling;
+        double task_seconds = 0.0;
+        concurrently(
+            [&cc]() {
+                CnemModel& m = cc.cnem;
+                cnemInternalForces(cc.bridge.cnemView(m), m.law, m.displacement.data(), m.force.data());
+                for (std::size_t a = 0; a < m.force.size(); ++a)
+                    m.force[a] += m.external_force[a];
+            },
+            [&]() {
+                bond_loads(c);
+                weightBondLoads(c.model.bonds.view(), cc.bridge.bond_weight.data());
+            },
+            task_seconds);
+        cc.cnem_task_seconds += task_seconds;
+        ++cc.cnem_task_calls;
+    });
+}
+
+void addCouplingInternalLoadsPhase(Step& step) {
+    // The bridging particles' loads so far are the DEM's own, weighted (bonds and unbonded contacts by α_d at
+    // their midpoint); what the load phases add to them is then split between the two models.
+    step.add("coupling.internal_loads", true,
+             [](StepContext& c) { rememberInternalLoads(c.model.particles, c.effects.coupling->bridge); });
+}
+
+void addCouplingSplitLoadsPhase(Step& step) {
+    step.add("coupling.split_external_loads", true, [](StepContext& c) {
+        CoupledContinuum& cc = *c.effects.coupling;
+        splitExternalLoads(c.model.particles, cc.cnem, cc.bridge);
+    });
+}
+
+void addCoupledKickPhase(Step& step) {
+    // The watchdog's measures of the projected velocities: a separate reduction, as the projection moves them.
+    step.add("coupling.kick", false, [](StepContext& c) {
+        CoupledContinuum& cc = *c.effects.coupling;
+        coupledKick(c.model.particles, cc.cnem, cc.bridge, c.dt);
+        c.kinetic = kineticEnergy(c.model.particles.view());
+    });
+}
+
+void addCouplingZoneCheckPhase(Step& step) {
+    // APP-2: the elastic CNEM cannot follow inelasticity in the zone; checked every 50 steps (the slider's slip
+    // and broken bonds are permanent, so nothing is missed, only seen ≤ 49 steps late).
+    step.add("coupling.check_zone", false, [](StepContext& c) {
+        if (std::llround(c.time / c.dt) % 50 == 0) {
+            const CoupledContinuum& cc = *c.effects.coupling;
+            assertZoneElastic(cc.bridge, c.model.particles, c.model.bonds, cc.zone_check);
+        }
+    });
+}
+
+CoupledFrequency coupledHighestFrequency(Model& model, CoupledContinuum& c) {
     CoupledFrequency out;
     // The weighted DEM: swap the weighted masses, inertias and beam moduli in, estimate, swap back.
     Particles& p = model.particles;
@@ -117,8 +192,7 @@ CoupledFrequency coupledHighestFrequency(Model& model) {
     return out;
 }
 
-double coupledKineticEnergy(Model& model) {
-    CoupledContinuum& c = *model.coupling;
+double coupledKineticEnergy(Model& model, CoupledContinuum& c) {
     const KineticEnergy k = kineticEnergy(c.bridge.demView(model.particles));
     return k.translational + k.rotational + cnemKineticEnergy(c.bridge.cnemState(c.cnem));
 }
@@ -144,14 +218,71 @@ void cnemMapFields(CoupledContinuum& c, CnemMapFields& out) {
     }
 }
 
-std::vector<double> cnemCheckpointState(const CoupledContinuum& c) {
-    const CnemModel& m = c.cnem;
-    std::vector<double> state;
-    state.reserve(3 * m.displacement.size());
-    for (const std::vector<double>* f : {&m.displacement, &m.velocity, &m.force}) {
-        state.insert(state.end(), f->begin(), f->end());
-    }
-    return state;
+void describe(const CoupledContinuum& c, const Model& model, const TimeStep& ts, std::ostream& log) {
+    const CouplingParams& cp = c.params;
+    log << "  coupling   CNEM box " << cp.box << " um minus the ball r < " << c.cavity_radius << " um: "
+        << c.cnem.nodes() << " nodes (h = " << c.spacing << " um), " << c.cnem.mesh.tetCount()
+        << " tets, beta = " << cp.stabilisation << "; bottom clamped (" << c.clamped_nodes
+        << " nodes), lateral faces " << cp.lateral << "\n             continuum E = " << c.cnem.material.young
+        << " GPa, nu = " << c.cnem.material.poisson << " (" << cp.material_source
+        << "), rho = " << c.cnem.material.density * 1e3 << " kg/m^3 ("
+        << (cp.density > 0.0 ? "explicit" : "measured on the packing: sum m_i / V") << ")\n             bridging zone "
+        << c.cavity_radius << " <= r <= " << model.sample.radius << " um (" << cp.profile
+        << " weights): " << c.report.bridging_particles << " bridging particles, " << c.report.bonds_in_zone
+        << " bonds in the zone (" << c.report.kinked_bonds << " cut off their midpoint), " << c.report.multipliers
+        << " multipliers; built in " << c.build_seconds << " s\n             omega: weighted DEM "
+        << c.frequency.dem << " rad/ns (unweighted " << ts.beams.omega << "), weighted CNEM " << c.frequency.cnem
+        << " rad/ns (" << c.frequency.cnem_iterations << " iterations); the step takes the larger\n";
+}
+
+void seriesColumns(const CoupledContinuum&, std::vector<std::string>& columns) {
+    columns.insert(columns.end(), {"cnem_kinetic_energy_nJ", "constraint_residual_m_per_s"});
+}
+
+void seriesValues(CoupledContinuum& c, Model& model, std::vector<double>& row) {
+    row.insert(row.end(), {cnemKineticEnergy(c.bridge.cnemState(c.cnem)),
+                           constraintResidual(model.particles, c.cnem, c.bridge) * 1e3});
+}
+
+void summarize(CoupledContinuum& c, Model& model, const RunClock& clock, nlohmann::ordered_json& summary) {
+    const ZoneInelasticity z = zoneInelasticity(c.bridge, model.particles, model.bonds);
+    const CouplingParams& cp = c.params;
+    summary["coupling"] = {
+        {"cnem_nodes", c.cnem.nodes()},
+        {"cnem_tets", c.cnem.mesh.tetCount()},
+        {"cnem_spacing_um", c.spacing},
+        {"box_um", cp.box},
+        {"zone_inner_um", c.cavity_radius},
+        {"zone_outer_um", model.sample.radius},
+        {"profile", cp.profile},
+        {"lateral_faces", cp.lateral},
+        {"continuum_young_modulus_GPa", c.cnem.material.young},
+        {"continuum_poisson_ratio", c.cnem.material.poisson},
+        {"continuum_density_kg_per_m3", c.cnem.material.density * 1e3},
+        {"measured_packing_density_kg_per_m3", c.measured_density * 1e3},
+        {"material_source", cp.material_source},
+        {"bridging_particles", c.report.bridging_particles},
+        {"bonds_in_zone", c.report.bonds_in_zone},
+        {"bonds_cut_off_midpoint", c.report.kinked_bonds},
+        {"multipliers", c.report.multipliers},
+        {"build_s", c.build_seconds},
+        {"omega_weighted_dem_rad_per_ns", c.frequency.dem},
+        {"omega_weighted_cnem_rad_per_ns", c.frequency.cnem},
+        {"dt_critical_cnem_ns", 2.0 / c.frequency.cnem},
+        {"cnem_task_s", c.cnem_task_seconds},
+        {"cnem_task_share_of_step", clock.seconds > 0.0 ? c.cnem_task_seconds / clock.seconds : 0.0},
+        {"step_ms", clock.steps > 0 ? 1e3 * clock.seconds / static_cast<double>(clock.steps) : 0.0},
+        {"final_constraint_residual_m_per_s", constraintResidual(model.particles, c.cnem, c.bridge) * 1e3},
+        {"zone_broken_bonds", z.broken_bonds},
+        {"zone_densified_bonds", z.densified_bonds},
+        {"zone_released_particles", z.released_particles},
+        {"zone_check", cp.zone_check},
+        {"zone_tolerance", cp.zone_tolerance},
+        {"zone_max_slip", z.max_slip},
+        {"zone_min_densified_alpha_d", z.min_densified_weight},
+        {"zone_weighted_slip_volume_um3", z.zone_slip_volume},
+        {"total_slip_volume_um3", z.total_slip_volume},
+        {"zone_weighted_slip_fraction", z.weightedSlipFraction()}};
 }
 
 } // namespace vitrum

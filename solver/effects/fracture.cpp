@@ -2,41 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <numbers>
-#include <random>
 
-#include "kernels/coupling_kernels.hpp"
-#include "kernels/parallel.hpp"
-#include "solver/effects/coupling.hpp"
+#include "solver/effects/contact.hpp"
+#include "solver/effects/indenter.hpp"
 #include "solver/model/model.hpp"
+#include "solver/step/time_step.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
-
-LinearContact contactLaw(const Scene& scene, const Model& model) {
-    const ContactParams& c = scene.contact;
-    double k_n = c.normal_stiffness;
-    if (!(k_n > 0.0)) {
-        // The mean beam axial stiffness E_μ π r_μ²/l₀ (reference note §7.2: fragments then interpenetrate no
-        // more than the bonded network deforms).
-        const Bonds& b = model.bonds;
-        for (std::size_t k = 0; k < b.size(); ++k) {
-            k_n += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.rest_length[k];
-        }
-        if (b.size() > 0) {
-            k_n /= static_cast<double>(b.size());
-        } else { // no bonds: the same for two touching mean spheres, l₀ = 2R̄
-            double mean_radius = 0.0;
-            for (double r : model.particles.radius) {
-                mean_radius += r / static_cast<double>(model.particles.size());
-            }
-            const double r_mu = scene.material.radius_ratio * mean_radius;
-            k_n = scene.material.beam_young * std::numbers::pi * r_mu * r_mu / (2.0 * mean_radius);
-        }
-    }
-    return LinearContact::make(k_n, c.restitution, c.tangential_ratio * k_n, c.friction);
-}
 
 ParticleVolume particleVolume(const Scene& scene) {
     const FractureParams& f = scene.fracture;
@@ -56,129 +31,58 @@ ParticleVolume particleVolume(const Scene& scene) {
     return {scene.sample.packing_fraction};
 }
 
-double contactOmegaSquared(const Scene& scene, const Model& model) {
-    if (!scene.hasEffect("contact") || model.particles.size() == 0) {
-        return 0.0;
-    }
-    const Particles& p = model.particles;
-    const std::size_t n = p.size();
-    const LinearContact law = contactLaw(scene, model);
-    const double min_mass = *std::min_element(p.mass.begin(), p.mass.end());
-    const double bound = contactOmegaSquaredBound(law, min_mass); // rigorous for any contact network
-    const double zeta = law.damping_ratio;
-    const double damping = (std::sqrt(1.0 + zeta * zeta) - zeta) * (std::sqrt(1.0 + zeta * zeta) - zeta);
-    // The candidate network: every pair within the skin of touching, bonded or not, taken as a contact. Any
-    // contact network near this configuration is a subset of it, and adding a pair's (positive semi-definite)
-    // stiffness never lowers λ_max, so its λ_max bounds theirs; found by power iteration (λ_R + ‖r‖, as
-    // solver/step/frequency.cpp), deterministic (fixed seed, deterministic kernels).
-    double mean_radius = 0.0;
-    for (double r : p.radius) {
-        mean_radius += r / static_cast<double>(n);
-    }
-    ContactList candidates;
-    candidates.skin = scene.contact.skin_ratio * mean_radius;
-    candidates.build(p, model.bonds, model.incidence);
-    if (candidates.size() == 0) {
-        return bound;
-    }
-    const ContactPairView pairs = candidates.view();
-    const IncidenceView incidence = candidates.incidenceView();
-    std::vector<double> x(6 * n), y(6 * n);
-    std::mt19937_64 rng(4242);
-    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-    for (double& v : x) {
-        v = uniform(rng);
-    }
-    const auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
-        return parallelReduce("contacts.frequency_dot", a.size(), 0.0,
-                              [&](std::size_t k, double& acc) { acc += a[k] * b[k]; });
-    };
-    double norm = std::sqrt(dot(x, x));
-    for (double& v : x) {
-        v /= norm;
-    }
-    double lambda = 0.0;
-    double residual = 0.0;
-    for (int it = 0; it < 100; ++it) {
-        contactStiffnessProduct(law, pairs, incidence, p.position.data(), p.radius.data(), p.mass.data(),
-                                p.inertia.data(), p.flags.data(), x.data(), y.data());
-        lambda = dot(x, y);
-        double r2 = 0.0;
-        for (std::size_t k = 0; k < x.size(); ++k) {
-            r2 += (y[k] - lambda * x[k]) * (y[k] - lambda * x[k]);
-        }
-        residual = std::sqrt(r2);
-        norm = std::sqrt(dot(y, y));
-        if (!(norm > 0.0) || !(lambda > 0.0)) {
-            return bound;
-        }
-        for (std::size_t k = 0; k < x.size(); ++k) {
-            x[k] = y[k] / norm;
-        }
-        if (residual < 0.02 * lambda) {
-            break;
-        }
-    }
-    return std::min(bound, (lambda + residual) / damping);
-}
-
-void addContactPhases(Step& step, const Scene& scene, Model& model) {
-    if (!scene.hasEffect("contact")) {
-        return;
-    }
-    double mean_radius = 0.0;
-    for (double r : model.particles.radius) {
-        mean_radius += r / static_cast<double>(model.particles.size());
-    }
-    model.contacts.skin = scene.contact.skin_ratio * mean_radius;
-    model.contacts.stale = true;
-    const LinearContact law = contactLaw(scene, model);
-    step.add("contacts.update", true, [](StepContext& c) {
-        c.model.contacts.update(c.model.particles, c.model.bonds, c.model.incidence);
-    });
-    step.add("contacts.forces", true, [law](StepContext& c) {
-        Model& m = c.model;
-        const ContactPairView pairs = m.contacts.view();
-        computeContactLoads(law, pairs, m.particles.view(), m.particles.initial_position.data(), m.bonds.broken.data(),
-                            c.dt);
-        if (m.coupling) { // in the bridging zone the pair loads are weighted like the bonds' (α_d at the midpoint)
-            weightContactLoads(pairs, m.coupling->bridge.zone, m.particles.initial_position.data());
-        }
-        gatherContactLoads(m.contacts.incidenceView(), pairs, m.particles.view());
-    });
-}
-
 namespace {
-/// Eq (10) into particles.stress; with averaging, eq (10) into `scratch` (6n) and its neighbour mean into the stress.
-void stressOf(Model& m, const ParticleVolume& volume, std::vector<double>* scratch) {
-    const ContactPairView pairs = m.contacts.size() > 0 ? m.contacts.view() : ContactPairView{};
-    const IncidenceView pair_incidence = m.contacts.size() > 0 ? m.contacts.incidenceView() : IncidenceView{};
-    double* raw = scratch ? scratch->data() : m.particles.stress.data();
+/// Eq (10) into particles.stress; with averaging, eq (10) into the scratch (6n) and its neighbour mean into the
+/// stress.
+void stressOf(Model& m, Fracture& fracture, Contact* contact) {
+    ContactList* list = contact && contact->list.size() > 0 ? &contact->list : nullptr;
+    const ContactPairView pairs = list ? list->view() : ContactPairView{};
+    const IncidenceView pair_incidence = list ? list->incidenceView() : IncidenceView{};
+    double* raw = fracture.averaging ? fracture.scratch.data() : m.particles.stress.data();
     computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), pair_incidence, pairs,
-                        m.point_forces.view(), volume, raw);
-    if (scratch) {
+                        fracture.point_forces.view(), fracture.volume, raw);
+    if (fracture.averaging) {
         averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), raw,
                                     m.particles.stress.data());
     }
 }
 } // namespace
 
-void computeStress(const Scene& scene, Model& model) {
-    model.particles.enableFracture();
-    toolPointForces(model, model.point_forces);
-    std::vector<double> scratch;
-    if (scene.fracture.averaging == "neighbours") {
-        scratch.assign(model.particles.stress.size(), 0.0);
+std::optional<Fracture> buildFracture(const Scene& scene, Model& model) {
+    if (!scene.hasEffect("fracture")) {
+        return std::nullopt;
     }
-    stressOf(model, particleVolume(scene), scratch.empty() ? nullptr : &scratch);
+    return makeFracture(scene, model);
 }
 
-void toolPointForces(const Model& m, PointForces& out) {
-    out.clear();
-    if (!m.indenter) {
-        return;
+Fracture makeFracture(const Scene& scene, Model& model) {
+    model.particles.enableFracture();
+    Fracture f;
+    f.law = HydrostaticRelease{scene.fracture.hydrostatic_strength};
+    f.check_every = scene.fracture.check_every;
+    f.volume = particleVolume(scene);
+    f.averaging = scene.fracture.averaging == "neighbours";
+    if (f.averaging) {
+        f.scratch.assign(model.particles.stress.size(), 0.0); // allocated only then
     }
-    const std::vector<double>& f = m.indenter->contact_force;
+    return f;
+}
+
+void computeStress(Model& model, Fracture& fracture, Contact* contact, const Indenter* tool) {
+    model.particles.enableFracture();
+    fracture.point_forces.clear();
+    if (tool) {
+        toolPointForces(model, *tool, fracture.point_forces);
+    }
+    if (fracture.averaging) {
+        fracture.scratch.assign(model.particles.stress.size(), 0.0);
+    }
+    stressOf(model, fracture, contact);
+}
+
+void toolPointForces(const Model& m, const Indenter& tool, PointForces& out) {
+    out.clear();
+    const std::vector<double>& f = tool.contact_force;
     for (std::size_t q = 0; q < m.particles.size(); ++q) {
         const Vec3 force = load3(f.data(), q);
         const double magnitude = force.norm();
@@ -190,30 +94,22 @@ void toolPointForces(const Model& m, PointForces& out) {
     }
 }
 
-void addFracturePhases(Step& step, const Scene& scene, Model& model) {
-    if (!scene.hasEffect("fracture")) {
-        return;
-    }
-    model.particles.enableFracture();
-    const HydrostaticRelease law{scene.fracture.hydrostatic_strength};
-    const long every = scene.fracture.check_every;
-    const ParticleVolume volume = particleVolume(scene);
-    // With averaging, eq (10) goes to a scratch array first (allocated only then).
-    std::shared_ptr<std::vector<double>> scratch;
-    if (scene.fracture.averaging == "neighbours") {
-        scratch = std::make_shared<std::vector<double>>(model.particles.stress.size(), 0.0);
-    }
+void addFracturePhase(Step& step) {
     // The step index is the time over Δt (the driver sets time = n Δt), so a restart checks on the same steps.
-    step.add("fracture.release", false, [law, every, volume, scratch](StepContext& c) {
+    step.add("fracture.release", false, [](StepContext& c) {
+        Fracture& fracture = *c.effects.fracture;
         const long long n = std::llround(c.time / c.dt);
-        if (n % every != 0) {
+        if (n % fracture.check_every != 0) {
             return;
         }
         Model& m = c.model;
-        toolPointForces(m, m.point_forces); // effect indenter: the tool's contacts with their branch vectors
-        stressOf(m, volume, scratch.get());
+        fracture.point_forces.clear();
+        if (c.effects.indenter) { // the tool's contacts with their branch vectors
+            toolPointForces(m, *c.effects.indenter, fracture.point_forces);
+        }
+        stressOf(m, fracture, c.effects.contact ? &*c.effects.contact : nullptr);
         const BondBreakView bonds{m.bonds.size(), m.bonds.i.data(), m.bonds.j.data(), m.bonds.broken.data()};
-        applyHydrostaticRelease(law, m.particles.damageView(), m.incidence.view(), bonds, n);
+        applyHydrostaticRelease(fracture.law, m.particles.damageView(), m.incidence.view(), bonds, n);
     });
 }
 
@@ -226,6 +122,30 @@ DamageTotals damageTotals(const Model& model) {
         t.released += r ? 1 : 0;
     }
     return t;
+}
+
+void describe(const Fracture& f, const Model&, const TimeStep&, std::ostream& log) {
+    log << "  fracture   hydrostatic release at " << f.law.strength * 1e3 << " MPa (eq 10 stress, Omega_i = sphere / "
+        << f.volume.packing_fraction << (f.averaging ? ", averaged with the bonded neighbours" : "")
+        << "), checked every " << f.check_every << " step(s)\n";
+}
+
+void seriesColumns(const Fracture&, std::vector<std::string>& columns) {
+    columns.insert(columns.end(), {"broken_bonds", "released_particles"});
+}
+
+void seriesValues(const Fracture&, const Model& model, std::vector<double>& row) {
+    const DamageTotals d = damageTotals(model);
+    row.insert(row.end(), {static_cast<double>(d.broken_bonds), static_cast<double>(d.released)});
+}
+
+void summarize(const Fracture&, const Model& model, const RunClock&, nlohmann::ordered_json& summary) {
+    const DamageTotals d = damageTotals(model);
+    nlohmann::ordered_json& m = summary["measurements"];
+    m["broken_bonds"] = d.broken_bonds;
+    m["released_particles"] = d.released;
+    m["broken_bond_fraction"] =
+        model.bonds.size() ? static_cast<double>(d.broken_bonds) / static_cast<double>(model.bonds.size()) : 0.0;
 }
 
 } // namespace vitrum

@@ -1,17 +1,18 @@
-// Effects `fracture` and `contact` in the composed step (paper §3; kernels/virial_stress.hpp,
-// kernels/fracture.hpp, kernels/contact.hpp, solver/effects/contact.hpp). composeStep calls the two functions below
-// at their places in the step; with neither effect listed they add nothing and allocate nothing.
-//
-//   contacts.update   Verlet list rebuilt when a particle moved more than skin/2              (contact)
-//   contacts.forces   pair loads of touching unbonded pairs, then the per-particle gather      (contact)
-//                     (after bonds.gather, which overwrites the forces)
-//   fracture.release  every check_every steps: eq (10) stress, then the hydrostatic criterion (fracture)
-//                     (after every force phase, tool contacts included: its stress sees them)
+// Effect `fracture` (paper §3, eqs 7–10; kernels/virial_stress.hpp, kernels/fracture.hpp): the per-particle
+// virial stress and the hydrostatic release criterion. Its phase:
+//   fracture.release  every check_every steps: eq (10) stress (tool contacts included), then the hydrostatic
+//                     criterion (after every force phase, so its stress sees them all)
+// Its per-particle state (stress, released flag, release step, broken bond count) lives in the particle store,
+// sized by buildFracture.
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "kernels/contact.hpp"
 #include "kernels/fracture.hpp"
@@ -20,11 +21,15 @@
 namespace vitrum {
 
 class Step;
+struct Contact;
+struct RunClock;
+struct TimeStep;
+struct Indenter;
 struct Model;
 struct Scene;
 
 /// External point forces on particles in the current step (a rigid tool's contacts), for the virial stress:
-/// the phase that applies them fills this list (clear, then add) before `fracture.release` runs.
+/// the phase fills this list (clear, then add) before it evaluates the stress.
 struct PointForces {
     std::vector<std::int32_t> particle;
     std::vector<double> force; ///< 3n, mN, on the particle
@@ -43,34 +48,34 @@ struct PointForces {
     PointForceView view() const { return {particle.size(), particle.data(), force.data(), point.data()}; }
 };
 
-/// The contact law of the scene on this model: k_n (default: mean beam axial stiffness E_μ π r_μ²/l₀ over the
-/// bonds), e, k_t = ratio·k_n, μ.
-LinearContact contactLaw(const Scene& scene, const Model& model);
+struct Fracture {
+    HydrostaticRelease law;
+    long check_every = 1;        ///< steps between evaluations of the criterion
+    ParticleVolume volume;       ///< Ω_i of eq (10)
+    bool averaging = false;      ///< eq (10) averaged with the bonded neighbours (Ω-weighted)
+    std::vector<double> scratch; ///< 6n: eq (10) before the averaging (sized only with averaging)
+    PointForces point_forces;    ///< the tool's contacts of the step, for eq (10)
+};
 
 /// Ω_i of the scene: the packing fraction (1 for volume = "sphere").
 ParticleVolume particleVolume(const Scene& scene);
 
-/// The squared angular frequency the contacts can add (0 without the effect `contact`), rad²/ns²: the largest
-/// eigenvalue of the mass-normalised contact stiffness of the candidate network (every pair within the skin of
-/// touching taken as a contact; power iteration, λ_R + ‖r‖), over (√(1+ζ²) − ζ)² for the dashpot, capped by the
-/// block-Gershgorin bound contactOmegaSquaredBound (any network of up to 12 contacts per particle). The driver
-/// adds it to the beams' ω_max² (Weyl). Valid while fragments do not pack denser than the sample.
-double contactOmegaSquared(const Scene& scene, const Model& model);
+/// The fracture state of `scene`'s [fracture] parameters over `model` (sizes the particles' damage state).
+Fracture makeFracture(const Scene& scene, Model& model);
+/// The effect for `scene`: makeFracture, or nullopt when `fracture` is not listed.
+std::optional<Fracture> buildFracture(const Scene& scene, Model& model);
 
-/// Adds the contact phases (effect contact) to `step` and sizes the list; call right after bonds.gather.
-void addContactPhases(Step& step, const Scene& scene, Model& model);
-
-/// Adds the fracture phase (effect fracture) and sizes the damage state; call after every force phase.
-void addFracturePhases(Step& step, const Scene& scene, Model& model);
+/// Adds fracture.release; call after every force phase.
+void addFracturePhase(Step& step);
 
 /// Computes the eq (10) stress of every particle now into model.particles.stress (sized if needed), with the
-/// model's contacts and point forces.
-void computeStress(const Scene& scene, Model& model);
+/// contacts of `contact` and the tool contacts of `tool` (either may be null).
+void computeStress(Model& model, Fracture& fracture, Contact* contact, const Indenter* tool);
 
-/// The point forces of the rigid tool (effect indenter) into `out` (cleared first; empty without a tool), in
-/// particle order: each touching particle's tool force at x_i − R_i F/|F|, its contact point for a frictionless
-/// tool (exact to the overlap's δ/2 ≪ R_i; with friction the force leans off the normal by at most atan μ).
-void toolPointForces(const Model& model, PointForces& out);
+/// The point forces of the rigid tool into `out` (cleared first), in particle order: each touching particle's
+/// tool force at x_i − R_i F/|F|, its contact point for a frictionless tool (exact to the overlap's δ/2 ≪ R_i;
+/// with friction the force leans off the normal by at most atan μ).
+void toolPointForces(const Model& model, const Indenter& tool, PointForces& out);
 
 /// Damage totals: broken bonds and released particles.
 struct DamageTotals {
@@ -78,5 +83,12 @@ struct DamageTotals {
     long long released = 0;
 };
 DamageTotals damageTotals(const Model& model);
+
+// Hooks (solver/effects/effects.hpp): the run log's line, the series columns broken_bonds, released_particles,
+// and the summary's measurements broken_bonds, released_particles, broken_bond_fraction.
+void describe(const Fracture& fracture, const Model& model, const TimeStep& time_step, std::ostream& log);
+void seriesColumns(const Fracture& fracture, std::vector<std::string>& columns);
+void seriesValues(const Fracture& fracture, const Model& model, std::vector<double>& row);
+void summarize(const Fracture& fracture, const Model& model, const RunClock& clock, nlohmann::ordered_json& summary);
 
 } // namespace vitrum

@@ -5,7 +5,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "kernels/integrate.hpp"
+#include "solver/effects/coupling.hpp"
 #include "solver/model/model.hpp"
+#include "solver/effects/effects.hpp"
+#include "solver/step/step.hpp"
+#include "solver/step/time_step.hpp"
 
 namespace vitrum {
 
@@ -31,32 +36,6 @@ std::string stageKindName(StageKind kind) {
 }
 
 std::string Indenter::stageName() const { return done() ? "done" : stageKindName(stages[stage].kind); }
-
-std::vector<double> Indenter::state() const {
-    return {tip.x(),   tip.y(), tip.z(), tip_velocity,        static_cast<double>(stage), stage_start, max_force,
-            depth_at_max_force, max_depth, work, relax_converged ? 1.0 : 0.0,
-            reaction.force.x(), reaction.force.y(), reaction.force.z(), static_cast<double>(reaction.contacts),
-            reaction.max_overlap, settle_start};
-}
-
-void Indenter::restore(const std::vector<double>& v) {
-    if (v.size() != 16 && v.size() != 17) { // 16: a checkpoint from before the relax stage's settle window
-        throw std::invalid_argument("indenter state: expected 17 values, got " + std::to_string(v.size()));
-    }
-    tip = Vec3(v[0], v[1], v[2]);
-    tip_velocity = v[3];
-    stage = static_cast<int>(v[4]);
-    stage_start = v[5];
-    max_force = v[6];
-    depth_at_max_force = v[7];
-    max_depth = v[8];
-    work = v[9];
-    relax_converged = v[10] != 0.0;
-    reaction.force = Vec3(v[11], v[12], v[13]);
-    reaction.contacts = static_cast<long>(v[14]);
-    reaction.max_overlap = v[15];
-    settle_start = v.size() > 16 ? v[16] : -1.0;
-}
 
 Indenter makeIndenter(const Scene& scene, const Model& model) {
     const IndenterParams& p = scene.indenter;
@@ -118,6 +97,45 @@ Indenter makeIndenter(const Scene& scene, const Model& model) {
     ind.law.slip_velocity = slowest > 0.0 ? 0.01 * slowest : 1e-6;
     ind.contact_force.assign(3 * n, 0.0);
     return ind;
+}
+
+std::optional<Indenter> buildIndenter(const Scene& scene, const Model& model) {
+    if (!scene.hasEffect("indenter")) {
+        return std::nullopt;
+    }
+    return makeIndenter(scene, model);
+}
+
+void addIndenterMovePhase(Step& step) {
+    // The tool moves like the particles drift: at the start of the step, on the force of the last one. In the
+    // relax stage the kinetic energy is checked every 50 steps (counted from step 0, so a restart checks on
+    // the same steps).
+    step.add("indenter.move", false, [](StepContext& c) {
+        Indenter& ind = *c.effects.indenter;
+        const bool relaxing = !ind.done() && ind.stages[ind.stage].kind == StageKind::Relax;
+        double ke = -1.0;
+        if (relaxing && std::llround(c.time / c.dt) % 50 == 0) {
+            if (c.effects.coupling) {
+                ke = coupledKineticEnergy(c.model, *c.effects.coupling); // both weighted models must be at rest
+            } else {
+                const KineticEnergy k = kineticEnergy(c.model.particles.view());
+                ke = k.translational + k.rotational;
+            }
+        }
+        advanceIndenter(ind, c.time, c.dt, ke);
+    });
+}
+
+void addIndenterContactPhase(Step& step) {
+    step.add("indenter.contact", true, [](StepContext& c) {
+        Indenter& ind = *c.effects.indenter;
+        ind.reaction = applyToolContacts(c.model.particles.view(), ind.tool, ind.law, ind.tip,
+                                         Vec3(0, 0, ind.tip_velocity), ind.contact_force.data());
+        if (ind.force() > ind.max_force) {
+            ind.max_force = ind.force();
+            ind.depth_at_max_force = ind.depth();
+        }
+    });
 }
 
 void advanceIndenter(Indenter& ind, double time, double dt, double kinetic_energy) {
@@ -214,6 +232,52 @@ double toolContactOmegaSquared(const Indenter& indenter, const Model& model) {
     const std::vector<double>& m = model.particles.mass;
     const double m_min = m.empty() ? 1.0 : *std::min_element(m.begin(), m.end());
     return indenter.law.stiffness / m_min;
+}
+
+namespace {
+const char* toolName(ToolKind kind) {
+    switch (kind) {
+    case ToolKind::Vickers:
+        return "vickers";
+    case ToolKind::Cone:
+        return "cone";
+    case ToolKind::Sphere:
+        return "sphere";
+    }
+    return "?";
+}
+constexpr double kNewtonPerMilliNewton = 1e-3;
+} // namespace
+
+void describe(const Indenter& ind, const Model&, const TimeStep& ts, std::ostream& log) {
+    log << "  indenter   " << toolName(ind.tool.kind) << " tool, contact k_n = " << ind.law.stiffness * 1e3
+        << " N/m, damping ratio " << ind.law.damping_ratio << ", friction " << ind.law.friction
+        << "; tip starts at z = " << ind.tip.z() << " um, free surface at z = " << ind.surface_level
+        << " um\n  stages     ";
+    for (std::size_t k = 0; k < ind.stages.size(); ++k) {
+        const StageParams& st = ind.stages[k];
+        log << (k ? " -> " : "") << stageKindName(st.kind);
+        if (st.kind == StageKind::Load || st.kind == StageKind::Unload) {
+            log << " (" << st.speed * 1e3 << " m/s to " << st.until_force * kNewtonPerMilliNewton << " N)";
+        } else if (st.kind == StageKind::Hold) {
+            log << " (" << st.duration << " ns)";
+        }
+    }
+    log << "; at most " << ts.steps << " steps (time.duration)\n";
+}
+
+void seriesColumns(const Indenter&, std::vector<std::string>& columns) {
+    columns.insert(columns.end(), {"stage", "tool_depth_um", "tool_force_N", "tool_contacts"});
+}
+
+void seriesValues(const Indenter& ind, const Model&, std::vector<double>& row) {
+    row.insert(row.end(), {static_cast<double>(ind.stage), ind.depth(), ind.force() * kNewtonPerMilliNewton,
+                           static_cast<double>(ind.reaction.contacts)});
+}
+
+void progressText(const Indenter& ind, std::ostream& text) {
+    text << "  " << ind.stageName() << ": depth " << ind.depth() << " um, F " << ind.force() * kNewtonPerMilliNewton
+         << " N";
 }
 
 } // namespace vitrum

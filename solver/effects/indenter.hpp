@@ -5,15 +5,21 @@
 //   indenter.contact  contact forces on the particles and the tool reaction (after bonds.gather)
 #pragma once
 
+#include <concepts>
+#include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
 #include "kernels/indenter.hpp"
+#include "solver/model/field.hpp"
 #include "solver/scene.hpp"
 
 namespace vitrum {
 
+class Step;
 struct Model;
+struct TimeStep;
 
 struct Indenter {
     ToolGeometry tool;
@@ -22,7 +28,7 @@ struct Indenter {
     double surface_level = 0.0; ///< µm: mean top (z + R) of the top-layer particles before loading
     double start_level = 0.0;   ///< µm: tip height at the start (highest particle top + gap)
 
-    // Controller state (checkpointed, see state()/restore()).
+    // Controller state (checkpointed: forEachField below).
     Vec3 tip = Vec3::Zero();      ///< µm, global
     double tip_velocity = 0.0;    ///< km/s along z (negative: pressing)
     int stage = 0;                ///< index into stages; stages.size() when done
@@ -44,11 +50,27 @@ struct Indenter {
     /// Tip depth below the initial free surface, µm.
     double depth() const { return surface_level - tip.z(); }
     std::string stageName() const;
-
-    /// The controller state as numbers, for the checkpoint, and back.
-    std::vector<double> state() const;
-    void restore(const std::vector<double>& values);
 };
+
+/// The indenter's checkpoint fields: its controller state and last reaction (one element each; the tool, the
+/// law and the stages follow from the scene).
+template <class I, class F>
+requires std::same_as<std::remove_const_t<I>, Indenter>
+constexpr void forEachField(I& ind, F&& field) {
+    field(Field{"tip", 3, "um"}, ind.tip);
+    field(Field{"tip_velocity", 1, "km/s"}, ind.tip_velocity);
+    field(Field{"stage", 1, ""}, ind.stage);
+    field(Field{"stage_start", 1, "ns"}, ind.stage_start);
+    field(Field{"max_force", 1, "mN"}, ind.max_force);
+    field(Field{"depth_at_max_force", 1, "um"}, ind.depth_at_max_force);
+    field(Field{"max_depth", 1, "um"}, ind.max_depth);
+    field(Field{"work", 1, "nJ"}, ind.work);
+    field(Field{"relax_converged", 1, ""}, ind.relax_converged);
+    field(Field{"settle_start", 1, "ns"}, ind.settle_start);
+    field(Field{"reaction_force", 3, "mN"}, ind.reaction.force);
+    field(Field{"reaction_contacts", 1, ""}, ind.reaction.contacts);
+    field(Field{"reaction_max_overlap", 1, "um"}, ind.reaction.max_overlap);
+}
 
 /// Stage name as in the scene ("load", "hold", "unload", "relax").
 std::string stageKindName(StageKind kind);
@@ -56,6 +78,15 @@ std::string stageKindName(StageKind kind);
 /// The indenter of `scene` over `model`: tool on the scene's axis, tip `gap` above the highest particle
 /// top; contact stiffness from the scene or, when 0, twice the mean bond axial stiffness E_μ π r_μ²/l₀.
 Indenter makeIndenter(const Scene& scene, const Model& model);
+
+/// The effect for `scene` (nullopt when `indenter` is not listed): makeIndenter.
+std::optional<Indenter> buildIndenter(const Scene& scene, const Model& model);
+
+/// Adds indenter.move (stage logic on the last step's tool force, then the tip moves; after the drift).
+void addIndenterMovePhase(Step& step);
+/// Adds indenter.contact (tool–particle contact forces and the tool reaction; after the gather, which
+/// overwrites the forces, and before damping, which acts on the total force).
+void addIndenterContactPhase(Step& step);
 
 /// The stage logic at the start of a step that ends at `time`: switches stages on the force of the previous
 /// step (and, in relax, on `kinetic_energy` when it is >= 0), then sets the tip velocity and moves the tip.
@@ -67,6 +98,14 @@ void advanceIndenter(Indenter& indenter, double time, double dt, double kinetic_
 /// the slowed tool holds its force just below the target (seen with effect coupling at 0.5 N), so more time
 /// does not help; a narrower slow_band keeps the tip fast up to the target. Otherwise: more time.
 std::string unfinishedStageAdvice(const Indenter& indenter);
+
+// Hooks (solver/effects/effects.hpp): the run log's lines, the series columns stage, tool_depth_um,
+// tool_force_N, tool_contacts, and the progress line's stage, depth and force. The indentation's summary keys
+// are its measurement (app/indentation_report.hpp).
+void describe(const Indenter& indenter, const Model& model, const TimeStep& time_step, std::ostream& log);
+void seriesColumns(const Indenter& indenter, std::vector<std::string>& columns);
+void seriesValues(const Indenter& indenter, const Model& model, std::vector<double>& row);
+void progressText(const Indenter& indenter, std::ostream& text);
 
 /// The extra angular frequency the tool contact can add: ω² ≤ ω_bonds² + k_n/m_min (Weyl's inequality for
 /// a diagonal stiffness k_n added to the mass-scaled stiffness), rad/ns.

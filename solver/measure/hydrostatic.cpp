@@ -7,20 +7,21 @@
 namespace vitrum {
 
 double HydrostaticGauge::volume(const Model& model) const {
-    return enclosedVolume(model.particles.position.data(), model.loads[load].surface.view());
+    return enclosedVolume(model.particles.position.data(), load.surface.view());
 }
 
 void HydrostaticGauge::sample(const Model& model, double time) {
-    const LoadParams& p = model.loads[load].params;
+    const LoadParams& p = load.params;
     if (p.pressure > 0.0 && p.pressureAt(time) == p.pressure) {
         in_situ_volume = volume(model);
         in_situ_seen = true;
     }
 }
 
-HydrostaticGauge hydrostaticGauge(const Model& model) {
+HydrostaticGauge hydrostaticGauge(const Model& model, const PressureLoads& loads) {
     HydrostaticGauge g;
-    g.initial_volume = convexHullVolume(model.particles.initial_position.data(), model.sets[model.loads[0].set].members);
+    g.load = loads.loads.front();
+    g.initial_volume = convexHullVolume(model.particles.initial_position.data(), model.sets[g.load.set].members);
     return g;
 }
 
@@ -102,7 +103,7 @@ void surfaceAndInterior(const Model& model, const PressureLoad& load, Hydrostati
 
 HydrostaticResult hydrostaticResult(const HydrostaticGauge& gauge, const Model& model, double max_slip) {
     HydrostaticResult r;
-    const PressureLoad& load = model.loads[gauge.load];
+    const PressureLoad& load = gauge.load;
     r.pressure = load.params.pressure;
     r.initial_volume = gauge.initial_volume;
     const double v0 = gauge.initial_volume;

@@ -6,12 +6,13 @@
 
 #include <vector>
 
+#include "solver/effects/pressure_load.hpp"
 #include "solver/model/model.hpp"
 
 namespace vitrum {
 
 struct HydrostaticGauge {
-    std::size_t load = 0;          ///< index into Model::loads (the first pressure load)
+    PressureLoad load;             ///< the load it follows (the first pressure load)
     double initial_volume = 0.0;   ///< V₀, fresh convex hull of the initial centres, µm³
     double in_situ_volume = 0.0;   ///< followed hull volume at the last sample under the full pressure, µm³
     bool in_situ_seen = false;
@@ -22,7 +23,7 @@ struct HydrostaticGauge {
     void sample(const Model& model, double time);
 };
 
-HydrostaticGauge hydrostaticGauge(const Model& model);
+HydrostaticGauge hydrostaticGauge(const Model& model, const PressureLoads& loads);
 
 struct HydrostaticResult {
     double pressure = 0.0;              ///< P_max, GPa

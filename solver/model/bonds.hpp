@@ -8,6 +8,7 @@
 
 #include "kernels/densification.hpp"
 #include "kernels/views.hpp"
+#include "solver/model/field.hpp"
 
 namespace vitrum {
 
@@ -71,21 +72,21 @@ Bonds bondNeighbours(const Particles& particles, double tolerance, const Materia
 template <class B, class F>
 requires std::same_as<std::remove_const_t<B>, Bonds>
 constexpr void forEachField(B& b, F&& field) {
-    field("i", b.i, 1);
-    field("j", b.j, 1);
-    field("rest_length", b.rest_length, 1);
-    field("section_radius", b.section_radius, 1);
-    field("young", b.young, 1);
-    field("shear", b.shear, 1);
-    field("axis_i", b.axis_i, 3);
-    field("axis_j", b.axis_j, 3);
-    field("twist_ref", b.twist_ref, 4);
-    field("broken", b.broken, 1);
-    field("force", b.force, 3);
-    field("torque_i", b.torque_i, 3);
-    field("torque_j", b.torque_j, 3);
-    field("slip", b.slip, 1);                         // effect densification (empty without it)
-    field("reference_strain", b.reference_strain, 1); // effect densification (empty without it)
+    field(Field{"i", 1, ""}, b.i);
+    field(Field{"j", 1, ""}, b.j);
+    field(Field{"rest_length", 1, "um"}, b.rest_length);
+    field(Field{"section_radius", 1, "um"}, b.section_radius);
+    field(Field{"young", 1, "GPa"}, b.young);
+    field(Field{"shear", 1, "GPa"}, b.shear);
+    field(Field{"axis_i", 3, ""}, b.axis_i);
+    field(Field{"axis_j", 3, ""}, b.axis_j);
+    field(Field{"twist_ref", 4, ""}, b.twist_ref);
+    field(Field{"broken", 1, ""}, b.broken);
+    field(Field{"force", 3, "mN"}, b.force);
+    field(Field{"torque_i", 3, "mN*um"}, b.torque_i);
+    field(Field{"torque_j", 3, "mN*um"}, b.torque_j);
+    field(Field{"slip", 1, ""}, b.slip);                         // effect densification (empty without it)
+    field(Field{"reference_strain", 1, ""}, b.reference_strain); // effect densification (empty without it)
 }
 
 } // namespace vitrum

@@ -123,19 +123,6 @@ Model buildModel(const Scene& scene, double length_factor, const BondedSample& b
         }
         model.boundaries.push_back(bc);
     }
-    for (const LoadParams& l : scene.loads) {
-        PressureLoad load;
-        load.params = l;
-        try {
-            load.set = model.setIndex(l.set);
-            load.surface = convexHullOf(model.particles.position.data(), model.sets[load.set].members);
-        } catch (const std::out_of_range& e) {
-            throw InputError(scene.source_path + ": [[load]] set: " + e.what());
-        } catch (const std::invalid_argument& e) {
-            throw InputError(scene.source_path + ": [[load]] set '" + l.set + "': " + e.what());
-        }
-        model.loads.push_back(std::move(load));
-    }
     initialiseBoundaries(model);
     return model;
 }
@@ -155,7 +142,7 @@ void initialiseBoundaries(Model& model) {
 }
 
 void placeModelArrays(Model& model, PagePolicy policy) {
-    auto place = [policy](const char*, auto& values, int) { placeOnPages(values, policy); };
+    auto place = [policy](const Field&, auto& values) { placeOnPages(values, policy); };
     forEachField(model.particles, place);
     forEachField(model.bonds, place);
     placeOnPages(model.incidence.offset, policy);

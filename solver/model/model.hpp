@@ -1,25 +1,18 @@
-// The model: the stores a run works on, built from a scene. A plain aggregate of the particle and bond
-// stores, the named sets and the boundary conditions; behaviour lives in kernels and in the composed step.
+// The model: the bonded sample a run works on, built from a scene. A plain aggregate of the particle and bond
+// stores, the named sets and the boundary conditions; what the scene's effects add lives in their own homes
+// (solver/effects/effects.hpp), behaviour in kernels and in the composed step.
 #pragma once
 
-#include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "kernels/pages.hpp"
 #include "solver/model/bonds.hpp"
-#include "solver/effects/contact.hpp"
-#include "solver/effects/fracture.hpp"
-#include "solver/effects/indenter.hpp"
 #include "solver/model/particles.hpp"
 #include "solver/model/sample.hpp"
 #include "solver/scene.hpp"
-#include "solver/model/surface.hpp"
 
 namespace vitrum {
-
-struct CoupledContinuum; // effect coupling, solver/effects/coupling.hpp
 
 struct NamedSet {
     std::string name;
@@ -37,24 +30,12 @@ struct BoundaryCondition {
     Vec3 rateAt(double t) const;
 };
 
-/// A pressure load on the convex hull of a set (built once from the initial positions).
-struct PressureLoad {
-    std::size_t set = 0; ///< index into Model::sets
-    LoadParams params;   ///< internal units
-    HullSurface surface;
-};
-
 struct Model {
     Particles particles;
     Bonds bonds;
     Incidence incidence;
     std::vector<NamedSet> sets;
     std::vector<BoundaryCondition> boundaries;
-    std::vector<PressureLoad> loads;
-    ContactList contacts;     ///< effect contact: neighbour list and pair loads (empty otherwise)
-    PointForces point_forces; ///< external point forces of the step (tool contacts) for the eq (10) stress
-    std::optional<Indenter> indenter; ///< effect indenter (composeStep builds it)
-    std::shared_ptr<CoupledContinuum> coupling; ///< effect coupling (composeStep builds it)
     SampleParams sample;      ///< geometry the sample was built for (µm)
     double spacing = 0.0;     ///< lattice constant, µm
 
@@ -73,7 +54,8 @@ struct BondedSample {
 BondedSample buildSample(const Scene& scene);
 
 /// Builds particles, bonds, sets and boundary conditions of `scene` on `sample` (quantities in internal
-/// units; set selectors carry numbers in the scene's length unit, converted with length_factor).
+/// units; set selectors carry numbers in the scene's length unit, converted with length_factor). The
+/// effects come on top: solver/effects/effects.hpp buildEffects.
 Model buildModel(const Scene& scene, double length_factor, const BondedSample& sample);
 
 /// buildModel on buildSample(scene).
@@ -81,7 +63,7 @@ Model buildModel(const Scene& scene, double length_factor);
 
 /// Places the large arrays of the particle and bond stores and of the incidence on pages of `policy`
 /// (kernels/pages.hpp: 2 MiB pages cut the TLB misses of the bond pass and the gather). Call once the model
-/// is complete: after composeStep (which sizes the effects' per-bond and per-particle state) and after a
+/// is complete: after buildEffects (which sizes the effects' per-bond and per-particle state) and after a
 /// restart has read its checkpoint. Changes no value, so no result depends on it.
 void placeModelArrays(Model& model, PagePolicy policy = PagePolicy::Huge);
 

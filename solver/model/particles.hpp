@@ -8,6 +8,7 @@
 
 #include "kernels/fracture.hpp"
 #include "kernels/views.hpp"
+#include "solver/model/field.hpp"
 
 namespace vitrum {
 
@@ -44,28 +45,28 @@ struct Particles {
     DamageView damageView();
 };
 
-/// The field table of the particle store: calls `field(name, member, components)` for every field, in a
-/// fixed order. Works on const and non-const stores. The checkpoint writes and reads through it
+/// The field table of the particle store: calls `field(descriptor, member)` for every field, in a fixed
+/// order. Works on const and non-const stores. The checkpoint writes and reads through it
 /// (io/checkpoint.cpp checks at compile time that it covers every member), and placeModelArrays places
 /// the arrays through it.
 template <class P, class F>
 requires std::same_as<std::remove_const_t<P>, Particles>
 constexpr void forEachField(P& p, F&& field) {
-    field("position", p.position, 3);
-    field("initial_position", p.initial_position, 3);
-    field("velocity", p.velocity, 3);
-    field("orientation", p.orientation, 4);
-    field("angular_velocity", p.angular_velocity, 3);
-    field("force", p.force, 3);
-    field("torque", p.torque, 3);
-    field("radius", p.radius, 1);
-    field("mass", p.mass, 1);
-    field("inertia", p.inertia, 1);
-    field("flags", p.flags, 1);
-    field("stress", p.stress, 6);             // effect fracture (empty without it)
-    field("released", p.released, 1);         // effect fracture
-    field("release_step", p.release_step, 1); // effect fracture
-    field("broken_bonds", p.broken_bonds, 1); // effect fracture
+    field(Field{"position", 3, "um"}, p.position);
+    field(Field{"initial_position", 3, "um"}, p.initial_position);
+    field(Field{"velocity", 3, "km/s"}, p.velocity);
+    field(Field{"orientation", 4, ""}, p.orientation);
+    field(Field{"angular_velocity", 3, "rad/ns"}, p.angular_velocity);
+    field(Field{"force", 3, "mN"}, p.force);
+    field(Field{"torque", 3, "mN*um"}, p.torque);
+    field(Field{"radius", 1, "um"}, p.radius);
+    field(Field{"mass", 1, "1e-15 kg"}, p.mass);
+    field(Field{"inertia", 1, "1e-15 kg*um^2"}, p.inertia);
+    field(Field{"flags", 1, ""}, p.flags);
+    field(Field{"stress", 6, "GPa"}, p.stress);             // effect fracture (empty without it)
+    field(Field{"released", 1, ""}, p.released);         // effect fracture
+    field(Field{"release_step", 1, ""}, p.release_step); // effect fracture
+    field(Field{"broken_bonds", 1, ""}, p.broken_bonds); // effect fracture
 }
 
 } // namespace vitrum

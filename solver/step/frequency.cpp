@@ -7,7 +7,7 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
-#include "solver/step/step.hpp"
+#include "solver/effects/densification.hpp"
 
 namespace vitrum {
 

@@ -6,6 +6,7 @@
 
 #include "kernels/views.hpp"
 #include "solver/effects/coupling.hpp"
+#include "solver/effects/effects.hpp"
 
 namespace vitrum {
 
@@ -75,7 +76,7 @@ const char* causeName(InstabilityCause cause) {
     return "time step";
 }
 
-InstabilityDiagnosis diagnoseInstability(const Model& model, long particle, double dt_ratio) {
+InstabilityDiagnosis diagnoseInstability(const Model& model, const Effects& effects, long particle, double dt_ratio) {
     InstabilityDiagnosis d;
     const Particles& ps = model.particles;
     if (particle < 0 || static_cast<std::size_t>(particle) >= ps.size()) {
@@ -98,21 +99,23 @@ InstabilityDiagnosis diagnoseInstability(const Model& model, long particle, doub
 
     // Contacts of p: the tool, then unbonded neighbours (effect contact).
     double tool_force = 0.0;
-    if (model.indenter && model.indenter->contact_force.size() == 3 * ps.size()) {
-        tool_force = at(model.indenter->contact_force, p).norm();
+    if (effects.indenter && effects.indenter->contact_force.size() == 3 * ps.size()) {
+        tool_force = at(effects.indenter->contact_force, p).norm();
         if (tool_force > 0.0) {
             s << "; touches the tool with " << tool_force << " mN";
         }
     }
     int touching = 0;
     double deepest = 0.0;
-    for (std::size_t c = 0; c < model.contacts.size(); ++c) {
-        if (!model.contacts.active[c] || (static_cast<std::size_t>(model.contacts.i[c]) != p &&
-                                          static_cast<std::size_t>(model.contacts.j[c]) != p)) {
+    const ContactList empty;
+    const ContactList& contacts = effects.contact ? effects.contact->list : empty;
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        if (!contacts.active[c] ||
+            (static_cast<std::size_t>(contacts.i[c]) != p && static_cast<std::size_t>(contacts.j[c]) != p)) {
             continue;
         }
-        const std::size_t a = static_cast<std::size_t>(model.contacts.i[c]);
-        const std::size_t b = static_cast<std::size_t>(model.contacts.j[c]);
+        const std::size_t a = static_cast<std::size_t>(contacts.i[c]);
+        const std::size_t b = static_cast<std::size_t>(contacts.j[c]);
         const double touch = ps.radius[a] + ps.radius[b];
         deepest = std::max(deepest, (touch - (at(ps.position, b) - at(ps.position, a)).norm()) / touch);
         ++touching;
@@ -183,7 +186,7 @@ InstabilityDiagnosis diagnoseInstability(const Model& model, long particle, doub
             model.bonds.slip[static_cast<std::size_t>(d.bond_index)] != 0.0) {
             a << "; its bonds have densified, and property evolution stiffens them beyond the initial estimate";
         }
-        if (intactBonds(model, p) <= 3 && !model.loads.empty()) {
+        if (intactBonds(model, p) <= 3 && effects.pressure) {
             // Hydrostatic runs at 18-30 GPa (examples/densification/README.md): a 3-bond surface particle under
             // its hull share of the pressure spins up at any ratio (faster at a smaller one): a mechanism.
             a << "; but it is held by only " << intactBonds(model, p) << " intact bonds under a [[load]]: a "
@@ -246,14 +249,41 @@ Neighbourhood gatherNeighbourhood(const Model& model, long particle, double radi
     return n;
 }
 
-void StateSnapshot::take(const Model& model, long step_, double time_) {
+void StateSnapshot::take(const Model& model, const Effects& effects, long step_, double time_) {
     step = step_;
     time = time_;
     particles = model.particles; // copy-assignment reuses the capacity: no allocation after the first
     bonds = model.bonds;
-    contacts = model.contacts;
-    controller = model.indenter ? model.indenter->state() : std::vector<double>{};
-    cnem_state = model.coupling ? cnemCheckpointState(*model.coupling) : std::vector<double>{};
+    if (effects.contact) {
+        contacts = effects.contact->list;
+    }
+    if (effects.indenter) {
+        indenter = effects.indenter;
+    }
+    coupled = effects.coupling != nullptr;
+    if (coupled) {
+        const CnemModel& m = effects.coupling->cnem;
+        cnem_displacement = m.displacement;
+        cnem_velocity = m.velocity;
+        cnem_force = m.force;
+    }
+}
+
+RunState StateSnapshot::state() {
+    RunState s{particles, bonds, contacts ? &*contacts : nullptr, indenter ? &*indenter : nullptr, std::nullopt};
+    if (coupled) {
+        s.cnem.emplace(CnemState{cnem_displacement, cnem_velocity, cnem_force});
+    }
+    return s;
+}
+
+RunState runState(Model& model, Effects& effects) {
+    RunState s{model.particles, model.bonds, effects.contact ? &effects.contact->list : nullptr,
+               effects.indenter ? &*effects.indenter : nullptr, std::nullopt};
+    if (effects.coupling) {
+        s.cnem.emplace(cnemState(*effects.coupling));
+    }
+    return s;
 }
 
 } // namespace vitrum

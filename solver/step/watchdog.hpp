@@ -9,9 +9,15 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
+#include "solver/effects/contact.hpp"
+#include "solver/step/run_state.hpp"
 #include "solver/model/model.hpp"
 
 namespace vitrum {
+
+struct Effects;
 
 /// The likely cause of an instability, with the scene keys to look at.
 enum class InstabilityCause { TimeStep, ContactStiffness, Input };
@@ -32,7 +38,7 @@ struct InstabilityDiagnosis {
 /// touches the tool or an unbonded neighbour → contact stiffness; the force on it is more than 10 × the sum
 /// of its bond forces → input (an external load); otherwise → time step (noted when its bonds have
 /// densified: property evolution stiffens them beyond the initial estimate).
-InstabilityDiagnosis diagnoseInstability(const Model& model, long particle, double dt_ratio);
+InstabilityDiagnosis diagnoseInstability(const Model& model, const Effects& effects, long particle, double dt_ratio);
 
 /// The particles within `radius` (µm) of the named particle's current centre (its initial one if that is not
 /// finite), with their bonds renumbered into the subset: what the driver writes as the neighbourhood VTU.
@@ -51,17 +57,21 @@ struct Neighbourhood {
 };
 Neighbourhood gatherNeighbourhood(const Model& model, long particle, double radius);
 
-/// A copy of every store the checkpoint holds, taken at a step that passed the watchdog.
+/// A copy of the run's state (solver/step/run_state.hpp), taken at a step that passed the watchdog: what the
+/// driver writes as last_good_state.h5, a checkpoint a restart continues from.
 struct StateSnapshot {
     long step = -1; ///< −1: none taken yet
     double time = 0.0;
     Particles particles;
     Bonds bonds;
-    ContactList contacts;
-    std::vector<double> controller; ///< the indenter's stage controller state (empty without the effect)
-    std::vector<double> cnem_state; ///< effect coupling: the CNEM state (CheckpointMeta::cnem_state), else empty
+    std::optional<ContactList> contacts;
+    std::optional<Indenter> indenter;
+    bool coupled = false;
+    std::vector<double> cnem_displacement, cnem_velocity, cnem_force;
 
-    void take(const Model& model, long step_, double time_);
+    void take(const Model& model, const Effects& effects, long step_, double time_);
+    /// The copy as a run state (for the checkpoint writer).
+    RunState state();
 };
 
 } // namespace vitrum

@@ -17,6 +17,7 @@
 #include "solver/step/frequency.hpp"
 #include "solver/measure/hydrostatic.hpp"
 #include "solver/step/probes.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
@@ -67,9 +68,9 @@ struct CycleOutcome {
 };
 
 /// Ramp–hold–release to 20 GPa and 2 ns at rest, on `m` as it is (a second call reloads the same sample).
-CycleOutcome cycle(Model& m, Step& step, double dt, double dt_crit, double min_radius) {
-    HydrostaticGauge gauge = hydrostaticGauge(m);
-    StepContext ctx{m, dt, 0.0};
+CycleOutcome cycle(Model& m, Effects& fx, Step& step, double dt, double dt_crit, double min_radius) {
+    HydrostaticGauge gauge = hydrostaticGauge(m, *fx.pressure);
+    StepContext ctx{m, fx, dt, 0.0};
     const long steps = static_cast<long>(std::ceil(9.0 / dt));
     CycleOutcome out;
     double max_compaction = 0.0;
@@ -108,7 +109,8 @@ TEST(DensificationTimeStep, SaturatedReleasedAndReloadedSphereIsStableAtHalfTheE
     setThreadCount(1);
     const Scene scene = parseScene(kScene, "saturated-sphere.toml");
     Model m = buildModel(scene, 1.0);
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     const FrequencyEstimate bound = highestFrequencyFor(scene, m); // what `vitrum run` uses
     const FrequencyEstimate initial = highestFrequency(m);         // the initial beams only
     // The envelope stiffens the axial response ×1.9, so ω_max rises by up to √1.9 = 1.38; it may never fall.
@@ -117,14 +119,14 @@ TEST(DensificationTimeStep, SaturatedReleasedAndReloadedSphereIsStableAtHalfTheE
     const double dt_crit = 2.0 / bound.omega;
     const double dt = 0.5 * dt_crit;
     const double min_radius = *std::min_element(m.particles.radius.begin(), m.particles.radius.end());
-    StepContext init{m, dt, 0.0};
+    StepContext init{m, fx, dt, 0.0};
     step.computeForces(init);
 
-    const CycleOutcome first = cycle(m, step, dt, dt_crit, min_radius);
+    const CycleOutcome first = cycle(m, fx, step, dt, dt_crit, min_radius);
     ASSERT_FALSE(first.detected) << "watchdog tripped in the first cycle";
     EXPECT_GE(first.densified, 0.99);  // every bond slipped
     EXPECT_GE(first.saturated, 0.75);  // most of them to ε_μ^pmax (measured 0.82)
-    const CycleOutcome again = cycle(m, step, dt, dt_crit, min_radius);
+    const CycleOutcome again = cycle(m, fx, step, dt, dt_crit, min_radius);
     EXPECT_FALSE(again.detected) << "watchdog tripped on reloading the saturated sphere";
     for (const CycleOutcome* c : {&first, &again}) {
         EXPECT_TRUE(c->finite);

@@ -16,6 +16,7 @@
 #include "kernels/parallel.hpp"
 #include "solver/effects/fracture.hpp"
 #include "solver/step/frequency.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -46,7 +47,8 @@ duration = 1
 )",
                                "half.toml");
     Model m = buildModel(s, 1.0);
-    Step step = composeStep(s, m);
+    Effects fx = buildEffects(s, m);
+    Step step = composeStep(m, fx);
     const double dt = ratio * 2.0 / std::sqrt(std::pow(highestFrequency(m).omega, 2) + contactOmegaSquared(s, m));
     // Pre-compress by 2 % (isotropic, affine): the beams store energy; then release every other particle
     // (Morton order: neighbours in memory are neighbours in space, so the halves are finely mixed).
@@ -61,7 +63,7 @@ duration = 1
         }
     }
     o.released = damageTotals(m).released;
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     for (long n = 1; n <= steps; ++n) {
         ctx.time = static_cast<double>(n) * dt;
@@ -70,9 +72,9 @@ duration = 1
             const KineticEnergy k = kineticEnergy(m.particles.view());
             o.finite = o.finite && k.finite;
             o.max_kinetic = std::max(o.max_kinetic, k.translational + k.rotational);
-            for (std::size_t c = 0; c < m.contacts.size(); ++c) {
-                if (!m.contacts.active[c]) continue;
-                const std::size_t i = static_cast<std::size_t>(m.contacts.i[c]), j = static_cast<std::size_t>(m.contacts.j[c]);
+            for (std::size_t c = 0; c < fx.contact->list.size(); ++c) {
+                if (!fx.contact->list.active[c]) continue;
+                const std::size_t i = static_cast<std::size_t>(fx.contact->list.i[c]), j = static_cast<std::size_t>(fx.contact->list.j[c]);
                 const double touch = m.particles.radius[i] + m.particles.radius[j];
                 const double d = (load3(m.particles.position.data(), j) - load3(m.particles.position.data(), i)).norm();
                 o.max_overlap = std::max(o.max_overlap, (touch - d) / touch);

@@ -15,6 +15,7 @@
 #include "solver/errors.hpp"
 #include "solver/step/frequency.hpp"
 #include "solver/step/probes.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -44,11 +45,12 @@ struct Outcome {
 
 /// Runs `steps` steps at Δt = factor × 2/ω_max (the driver's estimate, solver/step/frequency.hpp).
 Outcome runAt(Model& m, const Scene& scene, double factor, long steps) {
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     const FrequencyEstimate f = highestFrequency(m);
     const double dt_crit = 2.0 / f.omega;
     const double dt = factor * dt_crit;
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     const double e0 = totalEnergy(m);
     Outcome out;
@@ -148,10 +150,11 @@ TEST(HardCases, RadiusRatioThreeAndAFreeParticleStayStable) {
     Model m = buildModel(scene, 1.0, s);
     store3(m.particles.velocity.data(), 0, Vec3(1e-4, 2e-4, 0));
     store3(m.particles.velocity.data(), 2, Vec3(0, 0, 1e-3));
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     const FrequencyEstimate f = highestFrequency(m);
     const double dt = 0.9 * 2.0 / f.omega;
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     const double e0 = totalEnergy(m);
     for (long n = 1; n <= 20000; ++n) {

@@ -94,7 +94,7 @@ TEST(IndentationStability, FragmentsBrokenOffByTheToolHitItAndStayBoundedAndInsi
     EXPECT_GE(m["crack_snapshots"]["full_load"]["tool_force_N"].get<double>(), 0.004 * 0.95);
     Particles p;
     Bonds b;
-    readCheckpoint((dir / "state.h5").string(), p, b);
+    testing::readStores((dir / "state.h5").string(), p, b);
     for (std::size_t i = 0; i < p.size(); ++i) {
         ASSERT_LT(load3(p.position.data(), i).norm(), 2.0 * 3.4) << "particle " << i << " escaped";
     }

@@ -19,6 +19,7 @@
 #include "kernels/parallel.hpp"
 #include "solver/step/frequency.hpp"
 #include "solver/step/probes.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -88,12 +89,13 @@ TEST(DensificationStability, EveryBondSaturatingInOneStepThenReloadingStaysBound
     setThreadCount(1); // 400 particles: too few to share; results do not depend on the count
     const Scene scene = parseScene(kScene, "jump.toml");
     Model m = buildModel(scene, 1.0);
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     // Δt = 0.5 of the initial estimate: five times the default ratio, and below 1/√1.9 = 0.73, the ratio at
     // which the saturated axial stiffness (E_μ r̃² up ×1.9, ARCHITECTURE.md "Densification") would reach the
     // Verlet limit. The test is about the jump, not about running at the edge of the estimate.
     const double dt_crit = 2.0 / highestFrequency(m).omega;
-    StepContext ctx{m, 0.5 * dt_crit, 0.0};
+    StepContext ctx{m, fx, 0.5 * dt_crit, 0.0};
 
     // A 3 % strain in compression is σ = E_μ ε ≈ 7 GPa on a bond, seven times the yield stress: the first
     // evaluation slips every compressed bond to saturation (ε_μ^pmax = 2 %).

@@ -166,4 +166,17 @@ DensificationLaw lowYieldSlider(bool evolve, double young) {
     return law;
 }
 
+void writeStores(const std::string& path, const Particles& particles, const Bonds& bonds, const CheckpointMeta& meta,
+                 const ContactList* contacts) {
+    Particles p = particles;
+    Bonds b = bonds;
+    ContactList list = contacts ? *contacts : ContactList{};
+    writeCheckpoint(path, meta, RunState{p, b, contacts ? &list : nullptr, nullptr, std::nullopt});
+}
+
+CheckpointMeta readStores(const std::string& path, Particles& particles, Bonds& bonds, ContactList* contacts) {
+    RunState state{particles, bonds, contacts, nullptr, std::nullopt};
+    return readCheckpoint(path, state);
+}
+
 } // namespace vitrum::testing

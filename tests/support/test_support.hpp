@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/checkpoint.hpp"
 #include "kernels/densification.hpp"
 #include "solver/model/model.hpp"
 
@@ -59,6 +60,12 @@ Model strainedBondModel(bool densify);
 DensificationLaw lowYieldSlider(bool evolve, double young);
 
 /// The SIMD lane widths of the beam pass this CPU can run (2 always; 4 with AVX2; 8 with AVX-512F).
+/// The checkpoint of the bare stores, with the contact history of `contacts` when given (RunState around them).
+void writeStores(const std::string& path, const Particles& particles, const Bonds& bonds, const CheckpointMeta& meta,
+                 const ContactList* contacts = nullptr);
+/// Reads the stores (and the contact history onto `contacts` when given) of such a checkpoint.
+CheckpointMeta readStores(const std::string& path, Particles& particles, Bonds& bonds, ContactList* contacts = nullptr);
+
 std::vector<int> availableLanes();
 
 } // namespace vitrum::testing

@@ -26,6 +26,8 @@ namespace vitrum {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::readStores;
+using testing::writeStores;
 
 /// A small bonded lattice with every field of both stores overwritten by random values (bond ends stay
 /// valid particle indices), plus a few special doubles whose bits a lossy path would change.
@@ -39,7 +41,7 @@ Model perturbedModel(std::uint64_t seed) {
 
     std::mt19937_64 rng(seed);
     std::normal_distribution<double> gauss(0.0, 1.0);
-    const auto randomise = [&](const char*, auto& values, int) {
+    const auto randomise = [&](const Field&, auto& values) {
         using T = typename std::decay_t<decltype(values)>::value_type;
         for (T& v : values) {
             if constexpr (std::is_floating_point_v<T>) {
@@ -79,8 +81,8 @@ CheckpointMeta sampleMeta() {
 /// compile time that the table covers every member of the stores.
 template <class Store> std::vector<std::pair<std::string, std::string>> fieldBytes(const Store& store) {
     std::vector<std::pair<std::string, std::string>> out;
-    forEachField(store, [&](const char* name, const auto& values, int) {
-        out.emplace_back(name, std::string(reinterpret_cast<const char*>(values.data()),
+    forEachField(store, [&](const Field& field, const auto& values) {
+        out.emplace_back(field.name, std::string(reinterpret_cast<const char*>(values.data()),
                                            values.size() * sizeof(values[0])));
     });
     return out;
@@ -139,7 +141,7 @@ protected:
         model_ = perturbedModel(7);
         ASSERT_GT(model_.bonds.size(), 100u);
         path_ = (dir_ / "state.h5").string();
-        writeCheckpoint(path_, model_.particles, model_.bonds, sampleMeta());
+        writeStores(path_, model_.particles, model_.bonds, sampleMeta());
     }
     void TearDown() override {
         std::error_code ignored;
@@ -148,7 +150,7 @@ protected:
     void readInto() {
         Particles p;
         Bonds b;
-        readCheckpoint(path_, p, b);
+        readStores(path_, p, b);
     }
 
     fs::path dir_;
@@ -159,7 +161,7 @@ protected:
 TEST_F(Checkpoint, RoundTripIsBitwiseForEveryFieldAndTheMetadata) {
     Particles p;
     Bonds b;
-    const CheckpointMeta meta = readCheckpoint(path_, p, b);
+    const CheckpointMeta meta = readStores(path_, p, b);
     expectSameState(model_.particles, model_.bonds, p, b);
 
     const CheckpointMeta expected = sampleMeta();
@@ -182,12 +184,12 @@ TEST_F(Checkpoint, OverwritesAnExistingCheckpointAndLeavesNoTmp) {
     CheckpointMeta meta = sampleMeta();
     meta.step = 7;
     meta.scene_name = ""; // empty strings survive too
-    writeCheckpoint(path_, other.particles, other.bonds, meta);
+    writeStores(path_, other.particles, other.bonds, meta);
     EXPECT_FALSE(fs::exists(path_ + ".tmp"));
 
     Particles p;
     Bonds b;
-    const CheckpointMeta back = readCheckpoint(path_, p, b);
+    const CheckpointMeta back = readStores(path_, p, b);
     expectSameState(other.particles, other.bonds, p, b);
     EXPECT_EQ(back.step, 7);
     EXPECT_EQ(back.scene_name, "");
@@ -195,10 +197,10 @@ TEST_F(Checkpoint, OverwritesAnExistingCheckpointAndLeavesNoTmp) {
 
 TEST_F(Checkpoint, NoBondsRoundTrips) {
     const Bonds none;
-    writeCheckpoint(path_, model_.particles, none, sampleMeta());
+    writeStores(path_, model_.particles, none, sampleMeta());
     Particles p;
     Bonds b = model_.bonds;
-    readCheckpoint(path_, p, b);
+    readStores(path_, p, b);
     expectSameState(model_.particles, none, p, b);
 }
 
@@ -206,12 +208,12 @@ TEST_F(Checkpoint, FailedWriteKeepsThePreviousCheckpointAndRemovesItsTmp) {
     // A store whose mass field is short fails mid-write, after the .tmp file and some datasets exist.
     Particles broken = model_.particles;
     broken.mass.pop_back();
-    EXPECT_THROW(writeCheckpoint(path_, broken, model_.bonds, sampleMeta()), RuntimeFailure);
+    EXPECT_THROW(writeStores(path_, broken, model_.bonds, sampleMeta()), RuntimeFailure);
     EXPECT_FALSE(fs::exists(path_ + ".tmp"));
 
     Particles p;
     Bonds b;
-    const CheckpointMeta meta = readCheckpoint(path_, p, b);
+    const CheckpointMeta meta = readStores(path_, p, b);
     expectSameState(model_.particles, model_.bonds, p, b);
     EXPECT_EQ(meta.step, sampleMeta().step);
 }
@@ -220,7 +222,7 @@ TEST_F(Checkpoint, WriteIntoAMissingDirectoryThrowsAndLeavesNothing) {
     const fs::path missing = dir_ / "no" / "such" / "dir";
     const std::string target = (missing / "state.h5").string();
     try {
-        writeCheckpoint(target, model_.particles, model_.bonds, sampleMeta());
+        writeStores(target, model_.particles, model_.bonds, sampleMeta());
         ADD_FAILURE() << "no RuntimeFailure thrown";
     } catch (const RuntimeFailure& e) {
         EXPECT_NE(std::string(e.what()).find(target), std::string::npos) << e.what();
@@ -247,7 +249,7 @@ TEST_F(Checkpoint, TruncatedFileIsAnInputErrorAndLeavesTheStoresUntouched) {
 
     Particles p = model_.particles;
     Bonds b = model_.bonds;
-    expectInputError([&] { readCheckpoint(path_, p, b); }, {truncated});
+    expectInputError([&] { readStores(path_, p, b); }, {truncated});
     expectSameState(model_.particles, model_.bonds, p, b);
 }
 
@@ -259,7 +261,7 @@ TEST_F(Checkpoint, TruncatedAnywhereIsAnInputError) {
         fs::resize_file(truncated, cut);
         Particles p;
         Bonds b;
-        EXPECT_THROW(readCheckpoint(truncated, p, b), InputError) << "cut at " << cut << " of " << size;
+        EXPECT_THROW(readStores(truncated, p, b), InputError) << "cut at " << cut << " of " << size;
     }
 }
 
@@ -301,7 +303,7 @@ TEST_F(Checkpoint, OtherFormatVersionIsRefused) {
 TEST_F(Checkpoint, BondIndexOutOfRangeIsAnInputError) {
     Bonds bad = model_.bonds;
     bad.j[5] = static_cast<std::int32_t>(model_.particles.size());
-    writeCheckpoint(path_, model_.particles, bad, sampleMeta());
+    writeStores(path_, model_.particles, bad, sampleMeta());
     expectInputError([&] { readInto(); }, {path_, "bond 5"});
 }
 

@@ -13,6 +13,7 @@
 #include "kernels/parallel.hpp"
 #include "solver/effects/coupling.hpp"
 #include "solver/errors.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -160,25 +161,24 @@ TEST(CouplingScene, CoupledStepHasItsPhasesInPlaceAndUnlistedCostsNothing) {
     {
         const Scene scene = smallCoupledScene(false, true);
         Model model = buildModel(scene, 1.0);
-        const Step step = composeStep(scene, model);
-        EXPECT_FALSE(model.coupling); // nothing built, nothing allocated
+        Effects fx = buildEffects(scene, model);
+        const Step step = composeStep(model, fx);
+        EXPECT_FALSE(fx.coupling); // nothing built, nothing allocated
         for (const std::string& l : labels(step))
             EXPECT_EQ(l.find("coupling"), std::string::npos) << l;
     }
     const Scene scene = smallCoupledScene(true, true);
     Model model = buildModel(scene, 1.0);
-    const Step step = composeStep(scene, model);
-    ASSERT_TRUE(model.coupling);
-    const std::vector<std::string> expected = {"coupling.kick",
-                                               "coupling.project",
-                                               "coupling.drift",
+    Effects fx = buildEffects(scene, model);
+    const Step step = composeStep(model, fx);
+    ASSERT_TRUE(fx.coupling);
+    const std::vector<std::string> expected = {"coupling.kick_drift",
                                                "bonds.beam_loads+densification | coupling.cnem_forces",
                                                "bonds.gather",
                                                "coupling.kick",
-                                               "coupling.project",
                                                "coupling.check_zone"};
     EXPECT_EQ(labels(step), expected);
-    const CoupledContinuum& c = *model.coupling;
+    const CoupledContinuum& c = *fx.coupling;
     // Every particle has α_d > 0 and the zone's partition is exact (COUP-1 on the scene's geometry).
     EXPECT_EQ(c.report.max_partition_error, 0.0);
     EXPECT_EQ(c.report.inactive_end_bonds, 0u);
@@ -195,7 +195,7 @@ TEST(CouplingScene, CoupledStepHasItsPhasesInPlaceAndUnlistedCostsNothing) {
     // Without densification or fracture nothing can become inelastic: no zone check phase.
     const Scene elastic = smallCoupledScene(true, false);
     Model m2 = buildModel(elastic, 1.0);
-    const std::vector<std::string> l2 = labels(composeStep(elastic, m2));
+    const std::vector<std::string> l2 = labels(composeStep(m2, buildEffects(elastic, m2)));
     EXPECT_EQ(std::count(l2.begin(), l2.end(), "coupling.check_zone"), 0);
     EXPECT_EQ(std::count(l2.begin(), l2.end(), "bonds.beam_loads | coupling.cnem_forces"), 1);
 }

@@ -310,10 +310,10 @@ TEST(DensificationCheckpoint, StateRoundTripsBitForBitAndStaysAbsentWithoutTheEf
     d.deform(-0.05, Vec3(0.01, 0.0, 0.02), Vec3(0.0, -0.01, 0.0));
     d.compute();
     ASSERT_GT(d.b.slip[0], 0.0);
-    writeCheckpoint((dir / "on.h5").string(), d.p, d.b, CheckpointMeta{});
+    testing::writeStores((dir / "on.h5").string(), d.p, d.b, CheckpointMeta{});
     Particles p;
     Bonds b;
-    readCheckpoint((dir / "on.h5").string(), p, b);
+    testing::readStores((dir / "on.h5").string(), p, b);
     ASSERT_TRUE(b.densificationEnabled());
     EXPECT_EQ(std::memcmp(b.slip.data(), d.b.slip.data(), sizeof(double)), 0);
     EXPECT_EQ(std::memcmp(b.reference_strain.data(), d.b.reference_strain.data(), sizeof(double)), 0);
@@ -322,8 +322,8 @@ TEST(DensificationCheckpoint, StateRoundTripsBitForBitAndStaysAbsentWithoutTheEf
     OneBond plain(false);
     plain.b.slip.clear();
     plain.b.reference_strain.clear();
-    writeCheckpoint((dir / "off.h5").string(), plain.p, plain.b, CheckpointMeta{});
-    readCheckpoint((dir / "off.h5").string(), p, b);
+    testing::writeStores((dir / "off.h5").string(), plain.p, plain.b, CheckpointMeta{});
+    testing::readStores((dir / "off.h5").string(), p, b);
     EXPECT_EQ(b.size(), 1u);
     EXPECT_TRUE(b.slip.empty());
     EXPECT_TRUE(b.reference_strain.empty());

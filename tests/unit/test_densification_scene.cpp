@@ -8,6 +8,7 @@
 #include "io/scene_reader.hpp"
 #include "solver/errors.hpp"
 #include "solver/model/model.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -106,7 +107,8 @@ TEST(DensificationScene, ErrorsNameFileLineAndKey) {
 TEST(DensificationScene, StepComposesTheDensifiedPhaseOnlyWhenListed) {
     Scene s = parseScene("[sample]\nparticles = 64\n[time]\nduration = 1\n", "q.toml");
     Model m = buildModel(s, 1.0);
-    Step plain = composeStep(s, m);
+    Effects fx = buildEffects(s, m);
+    Step plain = composeStep(m, fx);
     EXPECT_EQ(plain.describe().find("densification"), std::string::npos);
     EXPECT_TRUE(m.bonds.slip.empty()); // nothing allocated without the effect
     EXPECT_TRUE(m.bonds.reference_strain.empty());
@@ -115,7 +117,8 @@ TEST(DensificationScene, StepComposesTheDensifiedPhaseOnlyWhenListed) {
                    "property_evolution = false\n[time]\nduration = 1\n",
                    "q.toml");
     Model d = buildModel(s, 1.0);
-    Step dense = composeStep(s, d);
+    Effects d_fx = buildEffects(s, d);
+    Step dense = composeStep(d, d_fx);
     EXPECT_NE(dense.describe().find("bonds.beam_loads+densification"), std::string::npos);
     EXPECT_EQ(d.bonds.slip.size(), d.bonds.size());
 }

@@ -18,6 +18,7 @@
 #include "kernels/parallel.hpp"
 #include "solver/errors.hpp"
 #include "solver/effects/fracture.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
@@ -90,11 +91,11 @@ TEST(VirialStress, SymmetrisedForBentBondsAndPointForcesUseTheirTrueBranch) {
 
 TEST(VirialStress, ToolContactsEnterWithTheirContactPoints) {
     Model m = pair(0.0);
-    m.indenter = Indenter{};
-    m.indenter->contact_force.assign(6, 0.0);
-    m.indenter->contact_force[2] = -3.0; // the tool presses particle 0 down (frictionless: along its normal)
+    Indenter indenter;
+    indenter.contact_force.assign(6, 0.0);
+    indenter.contact_force[2] = -3.0; // the tool presses particle 0 down (frictionless: along its normal)
     PointForces tool;
-    toolPointForces(m, tool);
+    toolPointForces(m, indenter, tool);
     ASSERT_EQ(tool.particle.size(), 1u);
     EXPECT_EQ(tool.particle[0], 0);
     EXPECT_EQ(load3(tool.point.data(), 0), Vec3(0.0, 0.0, 0.5)); // the top of particle 0 (R = 0.5)
@@ -102,7 +103,8 @@ TEST(VirialStress, ToolContactsEnterWithTheirContactPoints) {
     Scene s;
     s.effects = {"elasticity", "fracture"};
     s.fracture.packing_fraction = 1.0;
-    computeStress(s, m);
+    Fracture fracture = makeFracture(s, m);
+    computeStress(m, fracture, nullptr, &indenter);
     // σ_zz = (x_c − x)_z F_z / Ω = 0.5 · (−3) / ((4/3)π 0.5³): compressive.
     EXPECT_NEAR(m.particles.stress[2], 0.5 * -3.0 / ParticleVolume{1.0}.of(0.5), 1e-12);
     EXPECT_EQ(m.particles.stress[6 + 2], 0.0);
@@ -211,21 +213,22 @@ TEST(ContactList, RebuildCriterionKeepsEveryContactDetected) {
     // Particles jiggle at random, by up to 0.3 of the skin per step, with sustained drifts: after every
     // update the list must hold every pair within the skin's margin of touching, compared with brute force.
     Model m = lattice(400);
-    m.contacts.skin = 0.2 * m.particles.radius[0];
+    ContactList contacts;
+    contacts.skin = 0.2 * m.particles.radius[0];
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     std::vector<Vec3> drift(m.particles.size());
-    for (Vec3& d : drift) d = Vec3(u(rng), u(rng), u(rng)) * 0.05 * m.contacts.skin;
+    for (Vec3& d : drift) d = Vec3(u(rng), u(rng), u(rng)) * 0.05 * contacts.skin;
     long long rebuilds = 0;
     for (int step = 0; step < 200; ++step) {
         for (std::size_t q = 0; q < m.particles.size(); ++q) {
-            const Vec3 jiggle = Vec3(u(rng), u(rng), u(rng)) * 0.1 * m.contacts.skin;
+            const Vec3 jiggle = Vec3(u(rng), u(rng), u(rng)) * 0.1 * contacts.skin;
             store3(m.particles.position.data(), q, load3(m.particles.position.data(), q) + drift[q] + jiggle);
         }
-        rebuilds += m.contacts.update(m.particles, m.bonds, m.incidence) ? 1 : 0;
+        rebuilds += contacts.update(m.particles, m.bonds, m.incidence) ? 1 : 0;
         std::set<std::pair<std::int32_t, std::int32_t>> listed;
-        for (std::size_t k = 0; k < m.contacts.size(); ++k) {
-            listed.insert({m.contacts.i[k], m.contacts.j[k]});
+        for (std::size_t k = 0; k < contacts.size(); ++k) {
+            listed.insert({contacts.i[k], contacts.j[k]});
         }
         for (const auto& p : pairsWithinGap(m.particles, 0.0)) {
             ASSERT_TRUE(listed.count(p)) << "pair " << p.first << "-" << p.second << " touches at step " << step
@@ -235,54 +238,56 @@ TEST(ContactList, RebuildCriterionKeepsEveryContactDetected) {
     EXPECT_GT(rebuilds, 5);   // the criterion did fire
     EXPECT_LT(rebuilds, 200); // and not every step
     // A fresh build lists exactly the pairs within the skin, with their bonds.
-    m.contacts.build(m.particles, m.bonds, m.incidence);
-    const auto brute = pairsWithinGap(m.particles, m.contacts.skin);
-    ASSERT_EQ(brute.size(), m.contacts.size());
+    contacts.build(m.particles, m.bonds, m.incidence);
+    const auto brute = pairsWithinGap(m.particles, contacts.skin);
+    ASSERT_EQ(brute.size(), contacts.size());
     for (std::size_t k = 0; k < brute.size(); ++k) {
-        EXPECT_EQ(brute[k], std::make_pair(m.contacts.i[k], m.contacts.j[k]));
+        EXPECT_EQ(brute[k], std::make_pair(contacts.i[k], contacts.j[k]));
     }
 }
 
 TEST(ContactList, BondedPairsAreMarkedAndHistoryIsCarriedAcrossRebuilds) {
     Model m = lattice(200);
-    m.contacts.skin = 0.1;
-    m.contacts.build(m.particles, m.bonds, m.incidence);
+    ContactList contacts;
+    contacts.skin = 0.1;
+    contacts.build(m.particles, m.bonds, m.incidence);
     std::size_t bonded = 0;
-    for (std::size_t k = 0; k < m.contacts.size(); ++k) {
-        if (m.contacts.bond[k] >= 0) {
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+        if (contacts.bond[k] >= 0) {
             ++bonded;
-            const auto b = static_cast<std::size_t>(m.contacts.bond[k]);
-            EXPECT_EQ(m.bonds.i[b], m.contacts.i[k]);
-            EXPECT_EQ(m.bonds.j[b], m.contacts.j[k]);
+            const auto b = static_cast<std::size_t>(contacts.bond[k]);
+            EXPECT_EQ(m.bonds.i[b], contacts.i[k]);
+            EXPECT_EQ(m.bonds.j[b], contacts.j[k]);
         }
     }
     EXPECT_EQ(bonded, m.bonds.size()); // fcc at spacing 2R: every bond is a touching pair
-    m.contacts.tangential[3 * 5 + 1] = 0.25;
-    const ContactHistory h = m.contacts.history();
+    contacts.tangential[3 * 5 + 1] = 0.25;
+    const ContactHistory h = contacts.history();
     ASSERT_EQ(h.size(), 1u);
-    m.contacts.restore(h);
-    EXPECT_TRUE(m.contacts.update(m.particles, m.bonds, m.incidence)); // stale: rebuilt
-    EXPECT_EQ(m.contacts.tangential[3 * 5 + 1], 0.25);
+    contacts.restore(h);
+    EXPECT_TRUE(contacts.update(m.particles, m.bonds, m.incidence)); // stale: rebuilt
+    EXPECT_EQ(contacts.tangential[3 * 5 + 1], 0.25);
 }
 
 TEST(ContactLaw, BondedPairsGetNothingAndTouchingPairsConserveMomentum) {
     Model m = pair(-0.02); // overlapping by 2 %
-    m.contacts.skin = 0.1;
-    m.contacts.build(m.particles, m.bonds, m.incidence);
-    ASSERT_EQ(m.contacts.size(), 1u);
+    ContactList contacts;
+    contacts.skin = 0.1;
+    contacts.build(m.particles, m.bonds, m.incidence);
+    ASSERT_EQ(contacts.size(), 1u);
     const LinearContact law = LinearContact::make(50.0, 0.5, 25.0, 0.3);
     m.particles.velocity = {0.0, 0.01, 0.0, 0.0, -0.02, 0.003};
     m.particles.angular_velocity = {0.1, 0.0, 0.2, 0.0, -0.1, 0.0};
-    computeContactLoads(law, m.contacts.view(), m.particles.view(), m.particles.initial_position.data(),
+    computeContactLoads(law, contacts.view(), m.particles.view(), m.particles.initial_position.data(),
                         m.bonds.broken.data(), 1e-3);
-    EXPECT_EQ(m.contacts.active[0], 0); // still bonded
+    EXPECT_EQ(contacts.active[0], 0); // still bonded
     m.bonds.broken[0] = 1;
-    computeContactLoads(law, m.contacts.view(), m.particles.view(), m.particles.initial_position.data(),
+    computeContactLoads(law, contacts.view(), m.particles.view(), m.particles.initial_position.data(),
                         m.bonds.broken.data(), 1e-3);
-    ASSERT_EQ(m.contacts.active[0], 1);
+    ASSERT_EQ(contacts.active[0], 1);
     std::fill(m.particles.force.begin(), m.particles.force.end(), 0.0);
     std::fill(m.particles.torque.begin(), m.particles.torque.end(), 0.0);
-    gatherContactLoads(m.contacts.incidenceView(), m.contacts.view(), m.particles.view());
+    gatherContactLoads(contacts.incidenceView(), contacts.view(), m.particles.view());
     const Vec3 f0 = load3(m.particles.force.data(), 0);
     const Vec3 f1 = load3(m.particles.force.data(), 1);
     EXPECT_LT(f0.x(), 0.0); // pushed apart
@@ -300,19 +305,20 @@ TEST(ContactLaw, BondedPairsGetNothingAndTouchingPairsConserveMomentum) {
 TEST(VirialStress, ContactForcesEnterLikeBondForcesAndCompressionIsNegative) {
     // Two unbonded spheres pressed together by 1 %: eq (10) with the contact force, σ_xx = l F_x/(2Ω) < 0.
     Model m;
+    ContactList contacts;
     m.particles = Particles::spheres({Vec3(0, 0, 0), Vec3(1, 0, 0)}, {0.5, 0.5}, 1.0);
     m.incidence = Incidence::build(2, m.bonds);
     m.particles.position[3] = 0.99;
-    m.contacts.skin = 0.1;
-    m.contacts.build(m.particles, m.bonds, m.incidence);
+    contacts.skin = 0.1;
+    contacts.build(m.particles, m.bonds, m.incidence);
     const LinearContact law = LinearContact::make(50.0, 1.0, 25.0, 0.3);
-    computeContactLoads(law, m.contacts.view(), m.particles.view(), m.particles.initial_position.data(),
+    computeContactLoads(law, contacts.view(), m.particles.view(), m.particles.initial_position.data(),
                         m.bonds.broken.data(), 1e-3);
-    ASSERT_EQ(m.contacts.active[0], 1);
+    ASSERT_EQ(contacts.active[0], 1);
     std::vector<double> s(12, 0.0);
     const ParticleVolume volume{0.5};
-    computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), m.contacts.incidenceView(),
-                        m.contacts.view(), {}, volume, s.data());
+    computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), contacts.incidenceView(),
+                        contacts.view(), {}, volume, s.data());
     const double force = -50.0 * 0.01; // on particle 0, along −x
     const double expected = 0.99 * force / (2.0 * volume.of(0.5));
     EXPECT_NEAR(s[0], expected, 1e-15);
@@ -352,20 +358,21 @@ TEST(ContactFrequency, PowerIterationFindsThePairEigenvalueAndStaysBelowTheBound
 TEST(ContactLaw, InitialOverlapIsTheStressFreeState) {
     // A bonded pair created overlapping by 1 % breaks: no contact force until it is pushed closer.
     Model m = pair(0.0);
+    ContactList contacts;
     m.particles.position[3] = 0.99;
     m.particles.initial_position[3] = 0.99;
     m.bonds.broken[0] = 1;
-    m.contacts.skin = 0.1;
-    m.contacts.build(m.particles, m.bonds, m.incidence);
+    contacts.skin = 0.1;
+    contacts.build(m.particles, m.bonds, m.incidence);
     const LinearContact law = LinearContact::make(50.0, 0.5, 25.0, 0.3);
-    computeContactLoads(law, m.contacts.view(), m.particles.view(), m.particles.initial_position.data(),
+    computeContactLoads(law, contacts.view(), m.particles.view(), m.particles.initial_position.data(),
                         m.bonds.broken.data(), 1e-3);
-    EXPECT_EQ(m.contacts.active[0], 0);
+    EXPECT_EQ(contacts.active[0], 0);
     m.particles.position[3] = 0.985;
-    computeContactLoads(law, m.contacts.view(), m.particles.view(), m.particles.initial_position.data(),
+    computeContactLoads(law, contacts.view(), m.particles.view(), m.particles.initial_position.data(),
                         m.bonds.broken.data(), 1e-3);
-    EXPECT_EQ(m.contacts.active[0], 1);
-    EXPECT_NEAR(m.contacts.force[0], -50.0 * 0.005, 1e-12);
+    EXPECT_EQ(contacts.active[0], 1);
+    EXPECT_NEAR(contacts.force[0], -50.0 * 0.005, 1e-12);
 }
 
 TEST(FractureScene, KeysUnitsDefaultsAndRoundTrip) {
@@ -423,66 +430,74 @@ TEST(FractureStep, ComposedOnlyWhenListedAndUnlistedEffectsAllocateNothing) {
     s.sample.particles = 200;
     s.source_path = "<test>";
     Model m = buildModel(s, 1.0);
-    const Step plain = composeStep(s, m);
+    Effects fx = buildEffects(s, m);
+    const Step plain = composeStep(m, fx);
     for (const Phase& ph : plain.phases()) {
         EXPECT_EQ(ph.label.find("fracture"), std::string::npos);
         EXPECT_EQ(ph.label.find("contacts"), std::string::npos);
     }
     EXPECT_TRUE(m.particles.stress.empty());
     EXPECT_TRUE(m.particles.released.empty());
-    EXPECT_EQ(m.contacts.size(), 0u);
-    EXPECT_TRUE(m.contacts.reference_position.empty());
-    StepContext ctx{m, 1e-4, 1e-4};
-    Step again = composeStep(s, m);
+    EXPECT_FALSE(fx.contact); // no neighbour list exists
+    EXPECT_FALSE(fx.fracture);
+    StepContext ctx{m, fx, 1e-4, 1e-4};
+    Step again = composeStep(m, fx);
     again.advance(ctx);
-    EXPECT_EQ(m.contacts.builds, 0); // the neighbour list is never built
+    EXPECT_FALSE(fx.contact); // and stepping builds none
 
     s.effects = {"elasticity", "fracture", "contact"};
     Model f = buildModel(s, 1.0);
-    Step step = composeStep(s, f);
+    Effects f_fx = buildEffects(s, f);
+    Step step = composeStep(f, f_fx);
     std::vector<std::string> labels;
     for (const Phase& ph : step.phases()) labels.push_back(ph.label);
     EXPECT_EQ(labels, (std::vector<std::string>{"integrate.kick_drift", "bonds.beam_loads", "bonds.gather",
                                                 "contacts.update", "contacts.forces", "fracture.release",
                                                 "integrate.kick"}));
     EXPECT_EQ(f.particles.stress.size(), 6 * f.particles.size());
-    StepContext fc{f, 1e-4, 1e-4};
+    StepContext fc{f, f_fx, 1e-4, 1e-4};
     step.advance(fc);
-    EXPECT_EQ(f.contacts.builds, 1);
+    ASSERT_TRUE(f_fx.contact);
+    EXPECT_EQ(f_fx.contact->list.builds, 1);
 }
 
 TEST(FractureCheckpoint, DamageStateAndContactHistoryRoundTrip) {
     Model m = lattice(200);
+    ContactList contacts;
     m.particles.enableFracture();
     m.particles.released[7] = 1;
     m.particles.release_step[7] = 42;
     m.particles.broken_bonds[7] = 3;
     m.particles.stress[13] = 0.5;
     m.bonds.broken[2] = 1;
-    m.contacts.skin = 0.1;
-    m.contacts.build(m.particles, m.bonds, m.incidence);
-    m.contacts.tangential[3 * 4 + 2] = -0.125;
+    contacts.skin = 0.1;
+    contacts.build(m.particles, m.bonds, m.incidence);
+    contacts.tangential[3 * 4 + 2] = -0.125;
     const auto dir = testing::freshTempDir("fracture-checkpoint");
     const std::string path = (dir / "state.h5").string();
-    writeCheckpoint(path, m.particles, m.bonds, m.contacts, CheckpointMeta{5, 0.5, 0.1, "x", std::string(64, 'a'), "v"});
+    testing::writeStores(path, m.particles, m.bonds, CheckpointMeta{5, 0.5, 0.1, "x", std::string(64, 'a'), "v"},
+                         &contacts);
     Particles p;
     Bonds b;
-    const CheckpointMeta meta = readCheckpoint(path, p, b);
+    ContactList restored;
+    testing::readStores(path, p, b, &restored);
+    const ContactHistory history = restored.history(); // restore() keeps it until the list's next build
     EXPECT_EQ(p.released, m.particles.released);
     EXPECT_EQ(p.release_step, m.particles.release_step);
     EXPECT_EQ(p.broken_bonds, m.particles.broken_bonds);
     EXPECT_EQ(p.stress, m.particles.stress);
     EXPECT_EQ(b.broken, m.bonds.broken);
-    ASSERT_EQ(meta.contacts.size(), 1u);
-    EXPECT_EQ(meta.contacts.i[0], m.contacts.i[4]);
-    EXPECT_EQ(meta.contacts.j[0], m.contacts.j[4]);
-    EXPECT_EQ(meta.contacts.tangential[2], -0.125);
+    ASSERT_EQ(history.size(), 1u);
+    EXPECT_EQ(history.i[0], contacts.i[4]);
+    EXPECT_EQ(history.j[0], contacts.j[4]);
+    EXPECT_EQ(history.tangential[2], -0.125);
     // Without the effect the state is stored empty and read back empty.
     Model plain = lattice(200);
-    writeCheckpoint(path, plain.particles, plain.bonds, CheckpointMeta{5, 0.5, 0.1, "x", std::string(64, 'a'), "v"});
-    const CheckpointMeta pm = readCheckpoint(path, p, b);
+    testing::writeStores(path, plain.particles, plain.bonds, CheckpointMeta{5, 0.5, 0.1, "x", std::string(64, 'a'), "v"});
+    ContactList none;
+    testing::readStores(path, p, b, &none);
     EXPECT_TRUE(p.released.empty());
-    EXPECT_EQ(pm.contacts.size(), 0u);
+    EXPECT_EQ(none.history().size(), 0u);
 }
 
 } // namespace

@@ -8,6 +8,7 @@
 
 #include "kernels/pages.hpp"
 #include "solver/model/model.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
@@ -47,9 +48,10 @@ TEST(Pages, AModelStepsToTheSameBitsOnEitherKindOfPage) {
         testing::agitate(m, 9, 1e-3);
         Scene s;
         s.effects = {"elasticity"};
-        Step step = composeStep(s, m);
+        Effects fx = buildEffects(s, m);
+        Step step = composeStep(m, fx);
         placeModelArrays(m, policy);
-        StepContext c{m, 1e-4, 0.0};
+        StepContext c{m, fx, 1e-4, 0.0};
         step.computeForces(c);
         for (int n = 0; n < 5; ++n) {
             c.time += c.dt;

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "solver/effects/effects.hpp"
+#include "solver/model/model.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -31,7 +33,7 @@ Scene base() {
 TEST(StepComposition, ElasticityAloneComposesOnlyItsPhasesAndAllocatesNoEffectState) {
     Scene s = base();
     Model m = buildModel(s, 1.0);
-    const std::vector<std::string> l = labels(composeStep(s, m));
+    const std::vector<std::string> l = labels(composeStep(m, buildEffects(s, m)));
     EXPECT_EQ(l, (std::vector<std::string>{"integrate.kick_drift", "bonds.beam_loads", "bonds.gather",
                                            "integrate.kick"}));
     EXPECT_FALSE(m.bonds.densificationEnabled());
@@ -46,24 +48,25 @@ TEST(StepComposition, EachEffectAddsItsPhases) {
     s.sets = {{"top", "top layer"}};
     s.boundaries = {{"top", BoundaryKind::Displacement, Vec3(0, 0, -0.01), 1.0}};
     Model m = buildModel(s, 1.0);
-    std::vector<std::string> l = labels(composeStep(s, m));
+    std::vector<std::string> l = labels(composeStep(m, buildEffects(s, m)));
     EXPECT_TRUE(has(l, "damping.cundall"));
     EXPECT_TRUE(has(l, "bc.prescribe"));
     EXPECT_FALSE(has(l, "bonds.beam_loads+viscous"));
 
     s.damping = {DampingKind::BondViscous, 0.1};
     Model v = buildModel(s, 1.0);
-    l = labels(composeStep(s, v));
+    l = labels(composeStep(v, buildEffects(s, v)));
     EXPECT_TRUE(has(l, "bonds.beam_loads+viscous"));
     EXPECT_FALSE(has(l, "damping.cundall"));
     EXPECT_FALSE(has(l, "bonds.beam_loads"));
 
     s.effects = {"elasticity", "densification"};
     Model d = buildModel(s, 1.0);
-    l = labels(composeStep(s, d));
+    const Effects dfx = buildEffects(s, d);
+    l = labels(composeStep(d, dfx));
     EXPECT_TRUE(has(l, "bonds.beam_loads+densification"));
     EXPECT_TRUE(d.bonds.densificationEnabled());
-    EXPECT_FALSE(d.indenter.has_value());
+    EXPECT_FALSE(dfx.indenter.has_value());
 
     // The indenter: its move phase right after the drift, its contact phase right after the gather (the
     // gather overwrites the forces, the damping acts on the total), and its state only with the effect.
@@ -71,9 +74,10 @@ TEST(StepComposition, EachEffectAddsItsPhases) {
     s.stages = {StageParams{}};
     s.boundaries.clear();
     Model t = buildModel(s, 1.0);
-    l = labels(composeStep(s, t));
-    ASSERT_TRUE(t.indenter.has_value());
-    EXPECT_EQ(t.indenter->contact_force.size(), 3 * t.particles.size());
+    const Effects tfx = buildEffects(s, t);
+    l = labels(composeStep(t, tfx));
+    ASSERT_TRUE(tfx.indenter.has_value());
+    EXPECT_EQ(tfx.indenter->contact_force.size(), 3 * t.particles.size());
     const auto at = [&](const char* label) { return std::find(l.begin(), l.end(), label) - l.begin(); };
     EXPECT_EQ(at("indenter.move"), at("integrate.kick_drift") + 1);
     EXPECT_EQ(at("indenter.contact"), at("bonds.gather") + 1);

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "solver/effects/effects.hpp"
+
 #include "support/test_support.hpp"
 
 #include "io/checkpoint.hpp"
@@ -78,7 +80,7 @@ TEST(Watchdog, ARunawayParticleIsBlamedOnTheTimeStepWithItsMostStrainedBond) {
     m.particles.position[3 * p] += 0.3; // stretches the bond to its +x neighbour by 30 %
     m.particles.velocity[3 * p] = 5.0;  // km/s
     computeBeamLoads(m.bonds.view(), m.particles.view());
-    const InstabilityDiagnosis d = diagnoseInstability(m, static_cast<long>(p), 0.9);
+    const InstabilityDiagnosis d = diagnoseInstability(m, Effects{}, static_cast<long>(p), 0.9);
     EXPECT_EQ(d.cause, InstabilityCause::TimeStep);
     ASSERT_GE(d.bond_index, 0);
     const std::size_t b = static_cast<std::size_t>(d.bond_index);
@@ -110,40 +112,45 @@ TEST(Watchdog, AThreeBondParticleUnderALoadIsNamedAsAPossibleMechanism) {
     computeBeamLoads(m.bonds.view(), m.particles.view());
     gatherBondLoads(m.incidence.view(), m.bonds.view(), m.particles.view());
     const std::string mechanism = "held by only 3 intact bonds under a [[load]]";
-    EXPECT_EQ(diagnoseInstability(m, static_cast<long>(corner), 0.1).advice.find(mechanism), std::string::npos);
-    m.loads.emplace_back();
-    const InstabilityDiagnosis d = diagnoseInstability(m, static_cast<long>(corner), 0.1);
+    EXPECT_EQ(diagnoseInstability(m, Effects{}, static_cast<long>(corner), 0.1).advice.find(mechanism), std::string::npos);
+    Effects loaded;
+    loaded.pressure.emplace();
+    loaded.pressure->loads.emplace_back();
+    const InstabilityDiagnosis d = diagnoseInstability(m, loaded, static_cast<long>(corner), 0.1);
     EXPECT_EQ(d.cause, InstabilityCause::TimeStep) << d.advice;
     EXPECT_NE(d.advice.find(mechanism), std::string::npos) << d.advice;
-    EXPECT_EQ(diagnoseInstability(m, static_cast<long>(inner), 0.1).advice.find("intact bonds under"),
+    EXPECT_EQ(diagnoseInstability(m, loaded, static_cast<long>(inner), 0.1).advice.find("intact bonds under"),
               std::string::npos);
 }
 
 TEST(Watchdog, ACoincidentOrPrescribedParticleIsBlamedOnTheInput) {
     Model m = scCube();
     store3(m.particles.initial_position.data(), 5, load3(m.particles.initial_position.data(), 6));
-    InstabilityDiagnosis d = diagnoseInstability(m, 5, 0.1);
+    InstabilityDiagnosis d = diagnoseInstability(m, Effects{}, 5, 0.1);
     EXPECT_EQ(d.cause, InstabilityCause::Input);
     EXPECT_NE(d.advice.find("inside particle 6"), std::string::npos) << d.advice;
 
     Model k = scCube();
     k.particles.flags[9] |= kKinematic;
-    d = diagnoseInstability(k, 9, 0.1);
+    d = diagnoseInstability(k, Effects{}, 9, 0.1);
     EXPECT_EQ(d.cause, InstabilityCause::Input);
     EXPECT_NE(d.advice.find("[[boundary]]"), std::string::npos) << d.advice;
 }
 
 TEST(Watchdog, AParticleInAnUnbondedContactIsBlamedOnTheContactStiffness) {
     Model m = scCube();
+    Effects fx;
+    fx.contact.emplace();
+    ContactList& contacts = fx.contact->list;
     // Particle 0 and particle 1 (bonded neighbours along x) are not a contact pair; make 0 touch 7 instead,
     // overlapping by 10 % of R_0 + R_7.
     const double touch = m.particles.radius[0] + m.particles.radius[7];
     const Vec3 x7 = load3(m.particles.position.data(), 7);
     store3(m.particles.position.data(), 0, x7 + Vec3(0.0, 0.0, -0.9 * touch));
-    m.contacts.i = {0};
-    m.contacts.j = {7};
-    m.contacts.active = {1};
-    const InstabilityDiagnosis d = diagnoseInstability(m, 0, 0.1);
+    contacts.i = {0};
+    contacts.j = {7};
+    contacts.active = {1};
+    const InstabilityDiagnosis d = diagnoseInstability(m, fx, 0, 0.1);
     EXPECT_EQ(d.cause, InstabilityCause::ContactStiffness);
     EXPECT_NE(d.particle.find("deepest overlap 10 %"), std::string::npos) << d.particle;
     EXPECT_NE(d.advice.find("contact.normal_stiffness"), std::string::npos) << d.advice;
@@ -185,19 +192,19 @@ TEST(Watchdog, TheReportWritesARestartableLastGoodStateAndTheNeighbourhoodMaps) 
     const fs::path dir = testing::freshTempDir("watchdog-report");
     Model m = scCube();
     StateSnapshot good;
-    good.take(m, 300, 3.0);
+    good.take(m, Effects{}, 300, 3.0);
     const std::vector<double> good_positions = m.particles.position;
     m.particles.velocity[3 * 100] = std::nan(""); // the failed state differs from the snapshot
     m.particles.position[3 * 100 + 2] += 0.2;
-    const std::string text = reportInstability(dir, CheckpointMeta{0, 0.0, 0.01, "cube", "abc", "test", {}}, 0.1, m,
-                                               good, 100);
+    const std::string text =
+        reportInstability(dir, CheckpointMeta{0, 0.0, 0.01, "cube", "abc", "test"}, 0.1, m, Effects{}, good, 100);
     EXPECT_NE(text.find("likely cause: time step"), std::string::npos) << text;
     EXPECT_NE(text.find("last good state (step 300"), std::string::npos) << text;
     ASSERT_TRUE(fs::exists(dir / "watchdog_particles.vtu")) << text;
     ASSERT_TRUE(fs::exists(dir / "watchdog_bonds.vtu")) << text;
     Particles p;
     Bonds b;
-    const CheckpointMeta meta = readCheckpoint((dir / "last_good_state.h5").string(), p, b);
+    const CheckpointMeta meta = testing::readStores((dir / "last_good_state.h5").string(), p, b);
     EXPECT_EQ(meta.step, 300);
     EXPECT_EQ(meta.time, 3.0);
     EXPECT_EQ(meta.dt, 0.01);

@@ -12,6 +12,7 @@
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
 #include "solver/step/probes.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -43,11 +44,12 @@ EnergyRecord energyRecord(double ratio, long coarse_steps, double speed) {
     const Scene scene = latticeScene("sc", "box", 125);
     Model m = buildModel(scene, 1.0);
     agitate(m, 42, speed);
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     const CriticalTimeStep crit = criticalTimeStep(m.incidence.view(), m.bonds.view(), m.particles.view());
     const long refine = std::lround(0.1 / ratio); // steps per coarse (ratio 0.1) step
     const double dt = 0.1 * crit.dt / static_cast<double>(refine);
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     const double e0 = totalEnergy(m);
     std::vector<double> t;
@@ -114,9 +116,10 @@ TEST(Integrator, FreeSpinningParticleKeepsAngularMomentumAndRotatesExactly) {
     std::fill(m.bonds.broken.begin(), m.bonds.broken.end(), 1);
     const Vec3 w(0.3, -1.2, 2.0); // rad/ns
     store3(m.particles.angular_velocity.data(), 0, w);
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     const double dt = 1e-3;
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     const long steps = 10000;
     for (long n = 1; n <= steps; ++n) {
@@ -142,9 +145,10 @@ TEST(Integrator, SpinningBondedClusterConservesAngularMomentum) {
         store3(m.particles.velocity.data(), i, v);
         store3(m.particles.angular_velocity.data(), i, load3(m.particles.angular_velocity.data(), i) + spin);
     }
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     const double dt = 0.1 * criticalTimeStep(m.incidence.view(), m.bonds.view(), m.particles.view()).dt;
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     const Momentum p0 = momentum(m.particles.view());
     for (long n = 1; n <= 20000; ++n) {
@@ -160,10 +164,11 @@ bool blowsUp(double factor, long steps) {
     const Scene scene = latticeScene("fcc", "box", 500);
     Model m = buildModel(scene, 1.0);
     agitate(m, 5, 1e-4);
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     const CriticalTimeStep crit = criticalTimeStep(m.incidence.view(), m.bonds.view(), m.particles.view());
     const double dt = factor * crit.dt;
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     try {
         for (long n = 1; n <= steps; ++n) {

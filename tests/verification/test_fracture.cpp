@@ -22,6 +22,7 @@
 #include "kernels/timestep.hpp"
 #include "solver/effects/fracture.hpp"
 #include "solver/step/frequency.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 #include "support/test_support.hpp"
 
@@ -29,8 +30,8 @@ namespace vitrum {
 namespace {
 
 /// Runs `steps` steps of `step` on `m` from step `first` (time = n Δt).
-void run(Step& step, Model& m, double dt, long first, long steps) {
-    StepContext ctx{m, dt, 0.0};
+void run(Step& step, Model& m, Effects& fx, double dt, long first, long steps) {
+    StepContext ctx{m, fx, dt, 0.0};
     for (long n = first; n < first + steps; ++n) {
         ctx.time = static_cast<double>(n) * dt;
         step.advance(ctx);
@@ -79,11 +80,13 @@ duration = 1
     Scene relax = s;
     relax.effects = {"elasticity", "damping"};
     relax.damping = {DampingKind::CundallLocal, 0.7};
-    Step step = composeStep(relax, m);
+    Effects fx = buildEffects(relax, m);
+    Step step = composeStep(m, fx);
     const double dt = 0.3 * 2.0 / highestFrequency(m).omega;
-    run(step, m, dt, 1, 3000); // converged: 1 500 and 6 000 steps give the same stress to 4 digits
+    run(step, m, fx, dt, 1, 3000); // converged: 1 500 and 6 000 steps give the same stress to 4 digits
     // Static: the interior carries no net force any more (relative to the bond forces).
-    computeStress(s, m);
+    Fracture fracture = makeFracture(s, m);
+    computeStress(m, fracture, nullptr, nullptr);
     const ParticleVolume volume = particleVolume(s);
     double weight = 0.0;
     double sigma[6] = {0, 0, 0, 0, 0, 0};
@@ -151,9 +154,10 @@ TEST(FractureTension, ScBarFailsAtThreeTimesTheHydrostaticStrengthAcrossAPerpend
     m.boundaries.push_back({BoundaryKind::Fixed, m.setIndex("bottom"), Vec3::Zero(), 0.0});
     m.boundaries.push_back({BoundaryKind::Velocity, m.setIndex("top"), Vec3(0, 0, speed), 0.0});
     initialiseBoundaries(m);
-    Step step = composeStep(s, m);
+    Effects fx = buildEffects(s, m);
+    Step step = composeStep(m, fx);
     const double dt = 0.2 * 2.0 / std::sqrt(std::pow(highestFrequency(m).omega, 2) + contactOmegaSquared(s, m));
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     const NamedSet& top = m.sets[m.setIndex("top")];
     double sigma_fail = 0.0, strain_at_fail = 0.0;
@@ -219,7 +223,8 @@ double collide(double r1, double r2, double restitution, double steps_per_contac
     s.contact.normal_stiffness = 10.0; // mN/µm
     s.contact.restitution = restitution;
     s.source_path = "<test>";
-    Step step = composeStep(s, m);
+    Effects fx = buildEffects(s, m);
+    Step step = composeStep(m, fx);
     const double v1 = 0.01, v2 = -0.005; // km/s
     m.particles.velocity = {v1, 0, 0, v2, 0, 0};
     const double m1 = m.particles.mass[0], m2 = m.particles.mass[1];
@@ -228,8 +233,8 @@ double collide(double r1, double r2, double restitution, double steps_per_contac
     const double dt = std::numbers::pi / omega / steps_per_contact;
     const double p0 = m1 * v1 + m2 * v2;
     const double duration = 0.01 / (v1 - v2) + 3.0 * std::numbers::pi / omega;
-    run(step, m, dt, 1, static_cast<long>(duration / dt));
-    EXPECT_EQ(m.contacts.active[0], 0) << "still in contact";
+    run(step, m, fx, dt, 1, static_cast<long>(duration / dt));
+    EXPECT_EQ(fx.contact->list.active[0], 0) << "still in contact";
     const double p1 = m1 * m.particles.velocity[0] + m2 * m.particles.velocity[3];
     // The pair forces are equal and opposite bit for bit; what remains is the rounding of each v += Δt F/m,
     // ~10⁻¹⁶ |m v| per step, accumulated over ~10⁴ steps.
@@ -252,9 +257,8 @@ TEST(ContactCollision, HeadOnCollisionConservesMomentumAndRestitutionMatchesTheD
 }
 
 /// Elastic energy stored in the touching contacts: ½ k_n δ² + ½ k_t |ξ|² (δ shifted by the initial overlap).
-double contactEnergy(Model& m, const LinearContact& law) {
+double contactEnergy(Model& m, const ContactList& c, const LinearContact& law) {
     double u = 0.0;
-    const ContactList& c = m.contacts;
     const Particles& p = m.particles;
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
@@ -292,7 +296,8 @@ duration = 1
     setThreadCount(1);
     const Scene s = parseScene(scene, "rest.toml");
     Model m = buildModel(s, 1.0);
-    Step step = composeStep(s, m);
+    Effects fx = buildEffects(s, m);
+    Step step = composeStep(m, fx);
     double mean_radius = 0.0;
     for (double r : m.particles.radius) mean_radius += r / static_cast<double>(m.particles.size());
     for (std::size_t q = 0; q < m.particles.size(); ++q) {
@@ -304,18 +309,18 @@ duration = 1
         }
     }
     const double dt = 0.1 * 2.0 / std::sqrt(std::pow(highestFrequency(m).omega, 2) + contactOmegaSquared(s, m));
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     const bool long_run = std::getenv("VITRUM_LONG_TESTS") != nullptr;
     const long rest_steps = long_run ? 100000 : 2000;
     const int blocks = long_run ? 100 : 20;
-    run(step, m, dt, 1, rest_steps);
+    run(step, m, fx, dt, 1, rest_steps);
     // Pairs in contact at the start (effective gap below 10⁻² R̄) that no unbroken bond joins: the released
     // slab touches both sides.
     std::size_t touching = 0;
-    for (std::size_t k = 0; k < m.contacts.size(); ++k) {
-        const std::size_t i = static_cast<std::size_t>(m.contacts.i[k]), j = static_cast<std::size_t>(m.contacts.j[k]);
-        const bool bonded = m.contacts.bond[k] >= 0 && !m.bonds.broken[static_cast<std::size_t>(m.contacts.bond[k])];
+    for (std::size_t k = 0; k < fx.contact->list.size(); ++k) {
+        const std::size_t i = static_cast<std::size_t>(fx.contact->list.i[k]), j = static_cast<std::size_t>(fx.contact->list.j[k]);
+        const bool bonded = fx.contact->list.bond[k] >= 0 && !m.bonds.broken[static_cast<std::size_t>(fx.contact->list.bond[k])];
         const double gap = (load3(m.particles.position.data(), j) - load3(m.particles.position.data(), i)).norm() -
                            m.particles.radius[i] - m.particles.radius[j];
         touching += !bonded && gap < 1e-2 * mean_radius ? 1 : 0;
@@ -332,13 +337,13 @@ duration = 1
     // Agitated: no energy creation.
     testing::agitate(m, 3, 1e-3);
     const LinearContact law = contactLaw(s, m);
-    const double e0 = testing::totalEnergy(m) + contactEnergy(m, law);
+    const double e0 = testing::totalEnergy(m) + contactEnergy(m, fx.contact->list, law);
     double highest = e0;
     for (int block = 0; block < blocks; ++block) {
-        run(step, m, dt, rest_steps + 1 + block * 1000, 1000);
-        highest = std::max(highest, testing::totalEnergy(m) + contactEnergy(m, law));
+        run(step, m, fx, dt, rest_steps + 1 + block * 1000, 1000);
+        highest = std::max(highest, testing::totalEnergy(m) + contactEnergy(m, fx.contact->list, law));
     }
-    const double e1 = testing::totalEnergy(m) + contactEnergy(m, law);
+    const double e1 = testing::totalEnergy(m) + contactEnergy(m, fx.contact->list, law);
     std::printf("agitated: E0 %.6e, highest %.6e (+%.2e relative), final %.6e nJ\n", e0, highest, highest / e0 - 1, e1);
     // The bound: the beams conserve energy to first order only (ARCHITECTURE.md: 1.5·10⁻⁴ of E₀ over 10⁵
     // steps at 1 m/s), and the sampled total fluctuates by the Verlet shadow-energy term ~(ωΔt)²/8 ≈ 0.5 %

@@ -11,6 +11,7 @@
 #include "kernels/timestep.hpp"
 #include "solver/measure/hydrostatic.hpp"
 #include "solver/model/model.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -52,10 +53,10 @@ struct Cycle {
 };
 
 /// One ramp-hold-release cycle to `pressure` (GPa) followed by a rest, on the same model.
-Cycle cycle(Model& m, Step& step, double dt, double pressure) {
-    m.loads[0].params.pressure = pressure;
-    HydrostaticGauge gauge = hydrostaticGauge(m);
-    StepContext ctx{m, dt, 0.0};
+Cycle cycle(Model& m, Effects& fx, Step& step, double dt, double pressure) {
+    fx.pressure->loads[0].params.pressure = pressure;
+    HydrostaticGauge gauge = hydrostaticGauge(m, *fx.pressure);
+    StepContext ctx{m, fx, dt, 0.0};
     const double duration = 3.0 + 2.0 + 2.0 + 2.0; // ramp, hold, release, rest (ns)
     const long steps = static_cast<long>(duration / dt);
     for (long n = 1; n <= steps; ++n) {
@@ -76,20 +77,21 @@ TEST(HydrostaticSphere, ReloadingToThePreviousMaximumDensifiesNoFurther) {
     setThreadCount(1);
     const Scene scene = parseScene(kScene, "hydrostatic-test.toml");
     Model m = buildModel(scene, 1.0);
-    Step step = composeStep(scene, m);
+    Effects fx = buildEffects(scene, m);
+    Step step = composeStep(m, fx);
     const double dt = 0.3 * criticalTimeStep(m.incidence.view(), m.bonds.view(), m.particles.view()).dt;
-    StepContext init{m, dt, 0.0};
+    StepContext init{m, fx, dt, 0.0};
     step.computeForces(init);
 
-    const Cycle first = cycle(m, step, dt, 14.0);
+    const Cycle first = cycle(m, fx, step, dt, 14.0);
     ASSERT_GT(first.slip, 0.0) << "14 GPa must densify with sigma_d = 18 GPa (beam stress ~ 2P)";
     EXPECT_GT(first.residual, 0.0);
-    const Cycle again = cycle(m, step, dt, 14.0);
+    const Cycle again = cycle(m, fx, step, dt, 14.0);
     // The second cycle retraces the elastic path of the first: the slip may only grow by what the slightly
     // different dynamic overshoot of a damped ramp adds, bounded here at 1 % of the first cycle's slip.
     EXPECT_LT(again.slip - first.slip, 0.01 * first.slip);
     EXPECT_NEAR(again.residual, first.residual, 0.01 * first.residual);
-    const Cycle higher = cycle(m, step, dt, 18.0);
+    const Cycle higher = cycle(m, fx, step, dt, 18.0);
     EXPECT_GT(higher.slip, 1.05 * again.slip);
     EXPECT_GT(higher.residual, again.residual);
     setThreadCount(threads);

@@ -11,6 +11,7 @@
 #include "kernels/integrate.hpp"
 #include "kernels/timestep.hpp"
 #include "solver/step/probes.hpp"
+#include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
@@ -48,9 +49,10 @@ TEST(LatticeElasticity, CompressionWaveTimeOfFlightMatchesBarSpeed) {
     Model m = buildModel(bar.scene, 1.0);
     ASSERT_EQ(m.particles.size(), 960u);
     const double c = bar.a * std::sqrt(bar.k / bar.m);
-    Step step = composeStep(bar.scene, m);
+    Effects fx = buildEffects(bar.scene, m);
+    Step step = composeStep(m, fx);
     const double dt = 0.1 * criticalTimeStep(m.incidence.view(), m.bonds.view(), m.particles.view()).dt;
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
 
     const int depths[2] = {20, 40};
@@ -98,9 +100,10 @@ TEST(LatticeElasticity, QuasiStaticCompressionGivesKOverA) {
     s.effects = {"elasticity", "damping"};
     s.damping = {DampingKind::CundallLocal, 0.7};
     Model m = buildModel(s, 1.0);
-    Step step = composeStep(s, m);
+    Effects fx = buildEffects(s, m);
+    Step step = composeStep(m, fx);
     const double dt = 0.1 * criticalTimeStep(m.incidence.view(), m.bonds.view(), m.particles.view()).dt;
-    StepContext ctx{m, dt, 0.0};
+    StepContext ctx{m, fx, dt, 0.0};
     step.computeForces(ctx);
     const long steps = static_cast<long>(40.0 / dt);
     for (long n = 1; n <= steps; ++n) {
