@@ -85,10 +85,7 @@ int measureRun(const MeasureOptions& options) {
     }
     model.indenter->restore(meta.controller); // the tool's path: max force, max depth, work
     model.incidence = Incidence::build(model.particles.size(), model.bonds);
-    double mean_radius = 0.0;
-    for (double r : model.particles.radius) {
-        mean_radius += r / static_cast<double>(model.particles.size());
-    }
+    const double mean_radius = meanRadius(model.particles);
 
     // 3. The measurements.
     std::error_code ec;

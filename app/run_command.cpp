@@ -193,10 +193,7 @@ int runScene(const RunOptions& options) {
     const SampleSource source = loadOrBuildSample(scene);
     Model model = buildModel(scene, lengthFactor(scene.units.length), source.sample);
     const double min_radius = *std::min_element(model.particles.radius.begin(), model.particles.radius.end());
-    double mean_radius = 0.0;
-    for (double r : model.particles.radius) {
-        mean_radius += r / static_cast<double>(model.particles.size());
-    }
+    const double mean_radius = meanRadius(model.particles);
 
     // 3. Step composed from the effects; time step from the critical estimate.
     Step step = composeStep(scene, model);

@@ -21,16 +21,10 @@ LinearContact contactLaw(const Scene& scene, const Model& model) {
         // The mean beam axial stiffness E_μ π r_μ²/l₀ (reference note §7.2: fragments then interpenetrate no
         // more than the bonded network deforms).
         const Bonds& b = model.bonds;
-        for (std::size_t k = 0; k < b.size(); ++k) {
-            k_n += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.rest_length[k];
-        }
         if (b.size() > 0) {
-            k_n /= static_cast<double>(b.size());
+            k_n = meanAxialStiffness(b);
         } else { // no bonds: the same for two touching mean spheres, l₀ = 2R̄
-            double mean_radius = 0.0;
-            for (double r : model.particles.radius) {
-                mean_radius += r / static_cast<double>(model.particles.size());
-            }
+            const double mean_radius = meanRadius(model.particles);
             const double r_mu = scene.material.radius_ratio * mean_radius;
             k_n = scene.material.beam_young * std::numbers::pi * r_mu * r_mu / (2.0 * mean_radius);
         }
@@ -71,10 +65,7 @@ double contactOmegaSquared(const Scene& scene, const Model& model) {
     // contact network near this configuration is a subset of it, and adding a pair's (positive semi-definite)
     // stiffness never lowers λ_max, so its λ_max bounds theirs; found by power iteration (λ_R + ‖r‖, as
     // solver/step/frequency.cpp), deterministic (fixed seed, deterministic kernels).
-    double mean_radius = 0.0;
-    for (double r : p.radius) {
-        mean_radius += r / static_cast<double>(n);
-    }
+    const double mean_radius = meanRadius(p);
     ContactList candidates;
     candidates.skin = scene.contact.skin_ratio * mean_radius;
     candidates.build(p, model.bonds, model.incidence);
@@ -126,10 +117,7 @@ void addContactPhases(Step& step, const Scene& scene, Model& model) {
     if (!scene.hasEffect("contact")) {
         return;
     }
-    double mean_radius = 0.0;
-    for (double r : model.particles.radius) {
-        mean_radius += r / static_cast<double>(model.particles.size());
-    }
+    const double mean_radius = meanRadius(model.particles);
     model.contacts.skin = scene.contact.skin_ratio * mean_radius;
     model.contacts.stale = true;
     const LinearContact law = contactLaw(scene, model);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -121,6 +122,17 @@ Incidence Incidence::build(std::size_t n_particles, const Bonds& bonds) {
 
 IncidenceView Incidence::view() const {
     return IncidenceView{offset.size() - 1, offset.data(), entry.data(), ready.data()};
+}
+
+double meanAxialStiffness(const Bonds& b) {
+    if (b.size() == 0) {
+        return 0.0;
+    }
+    double sum = 0.0;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        sum += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.rest_length[k];
+    }
+    return sum / static_cast<double>(b.size());
 }
 
 Bonds bondNeighbours(const Particles& p, double tolerance, const MaterialParams& material) {
