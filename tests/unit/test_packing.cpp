@@ -350,6 +350,24 @@ TEST(Packing, MakeBondsUsesBondsAdd) {
     EXPECT_THROW(makeBonds(particles, {{0, 300}}, material), std::invalid_argument);
 }
 
+// The store means on a chain of three spheres (R = 1, 2, 4 µm, touching): R̄ = 7/3 µm; the beams (section
+// radius r̃ (R_a + R_b)/2, rest length R_a + R_b) have axial stiffness E π r̃² (R_a + R_b)/4, whose mean over
+// the two is E π r̃² (3 + 6)/8. Empty stores give 0.
+TEST(Packing, MeanRadiusAndMeanAxialStiffnessOfTheStores) {
+    const std::vector<Vec3> centres = {Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(9, 0, 0)};
+    const Particles particles = Particles::spheres(centres, {1.0, 2.0, 4.0}, 2.2);
+    EXPECT_DOUBLE_EQ(meanRadius(particles), 7.0 / 3.0);
+    EXPECT_EQ(meanRadius(particles), 1.0 / 3.0 + 2.0 / 3.0 + 4.0 / 3.0); // Σ R_i / n in index order
+    const MaterialParams material;
+    const Bonds bonds = makeBonds(particles, {{0, 1}, {1, 2}}, material);
+    const double r = material.radius_ratio;
+    // Tolerance: a few roundings of terms near E (the rest lengths come from sqrt of exact squares).
+    EXPECT_NEAR(meanAxialStiffness(bonds), material.beam_young * std::numbers::pi * r * r * 9.0 / 8.0,
+                1e-12 * material.beam_young);
+    EXPECT_EQ(meanRadius(Particles{}), 0.0);
+    EXPECT_EQ(meanAxialStiffness(Bonds{}), 0.0);
+}
+
 // Fabric normalisation: bonds along x, y and z in equal numbers → 0; all along z → 1.
 TEST(Packing, FabricAnisotropyNormalisation) {
     PackingParams p = smallParams("box", 4);
