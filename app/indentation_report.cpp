@@ -41,16 +41,6 @@ const Table4Row kTable4_05N[] = {{"paper DEM", 14.534, 1.174, 13.360, 0.397, 9.3
                                  {"exp. Ji [8]", 9.971, 1.138, 8.805, 0.908, 10.371}};
 } // namespace
 
-namespace {
-double meanRadiusOf(const Particles& p) {
-    double mean_radius = 0.0;
-    for (double r : p.radius) {
-        mean_radius += r / static_cast<double>(p.size());
-    }
-    return mean_radius;
-}
-} // namespace
-
 CrackParams crackParams(const Indenter& indenter, double mean_radius, double contact_radius) {
     CrackParams cp;
     cp.axis = indenter.tip; // the load axis passes through the tip (x, y)
@@ -105,7 +95,7 @@ nlohmann::ordered_json crackJson(const CrackPattern& cr, const CrackParams& cp) 
 }
 
 CrackSnapshots::CrackSnapshots(const Model& model, const Effects& effects, fs::path out)
-    : mean_radius_(meanRadiusOf(model.particles)), out_(std::move(out)) {
+    : mean_radius_(meanRadius(model.particles)), out_(std::move(out)) {
     const std::vector<StageParams>& st = effects.indenter->stages;
     for (std::size_t k = 0; k < st.size(); ++k) {
         if (st[k].kind == StageKind::Load) {
@@ -170,7 +160,7 @@ std::string CrackSnapshots::observe(const Model& model, const Effects& effects, 
 void measureIndentation(const Scene& scene, const Model& model, const Effects& effects, const fs::path& out,
                         nlohmann::ordered_json& m, CrackSnapshots* cracks) {
     const Indenter& ind = *effects.indenter;
-    const double mean_radius = meanRadiusOf(model.particles);
+    const double mean_radius = meanRadius(model.particles);
     const Particles& p = model.particles;
     const std::size_t n = p.size();
 

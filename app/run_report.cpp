@@ -22,14 +22,6 @@ double meanCoordination(const Model& model) {
     return 2.0 * static_cast<double>(model.bonds.size()) / static_cast<double>(model.particles.size());
 }
 
-double meanRadiusOf(const Model& model) {
-    double mean_radius = 0.0;
-    for (double r : model.particles.radius) {
-        mean_radius += r / static_cast<double>(model.particles.size());
-    }
-    return mean_radius;
-}
-
 } // namespace
 
 std::string stateSha256(const Particles& p) {
@@ -47,7 +39,7 @@ void printRunHeader(std::ostream& log, const Scene& scene, const SampleSource& s
         << (scene.sample.lattice == "random" ? "dense random packing" : scene.sample.lattice + " lattice") << " in a "
         << scene.sample.shape << " (" << source.origin << "): " << model.particles.size() << " particles, "
         << model.bonds.size() << " bonds (mean coordination " << std::setprecision(4) << meanCoordination(model)
-        << "), mean R = " << meanRadiusOf(model) << " um\n"
+        << "), mean R = " << meanRadius(model.particles) << " um\n"
         << "  material   E_mu = " << scene.material.beam_young << " GPa, nu_mu = " << scene.material.beam_poisson
         << ", r_tilde = " << scene.material.radius_ratio << ", rho = " << scene.material.density * 1e3
         << " kg/m^3\n"
@@ -89,7 +81,7 @@ nlohmann::ordered_json runSummary(const Scene& scene, const SampleSource& source
     if (source.report) {
         summary["packing"] = packingReportJson(*source.report);
     }
-    summary["mean_radius_um"] = meanRadiusOf(model);
+    summary["mean_radius_um"] = meanRadius(model.particles);
     summary["min_radius_um"] = *std::min_element(model.particles.radius.begin(), model.particles.radius.end());
     summary["steps"] = end.last;
     summary["max_steps"] = ts.steps;

@@ -14,93 +14,11 @@
 #include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 #include "solver/step/time_step.hpp"
+#include "solver/model/cell_grid.hpp"
 
 namespace vitrum {
 
 namespace {
-
-/// Linked-cell grid over the particles' bounding box; particles of a cell in ascending index order.
-struct CellGrid {
-    Vec3 origin = Vec3::Zero();
-    double edge = 1.0;
-    std::array<long, 3> dims{1, 1, 1};
-    std::vector<std::int32_t> start; ///< cells + 1
-    std::vector<std::int32_t> items;
-
-    std::array<long, 3> cellOf(const Vec3& x) const {
-        std::array<long, 3> c{};
-        for (int d = 0; d < 3; ++d) {
-            c[d] = std::clamp(static_cast<long>(std::floor((x[d] - origin[d]) / edge)), 0L, dims[d] - 1);
-        }
-        return c;
-    }
-    long index(const std::array<long, 3>& c) const { return (c[2] * dims[1] + c[1]) * dims[0] + c[0]; }
-};
-
-CellGrid buildGrid(const Particles& p, double min_edge) {
-    const std::size_t n = p.size();
-    Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-    Vec3 hi = -lo;
-    for (std::size_t q = 0; q < n; ++q) {
-        lo = lo.cwiseMin(load3(p.position.data(), q));
-        hi = hi.cwiseMax(load3(p.position.data(), q));
-    }
-    CellGrid g;
-    g.origin = lo;
-    g.edge = min_edge;
-    const Vec3 extent = (hi - lo).cwiseMax(Vec3::Constant(min_edge));
-    // Far-flying fragments must not blow the grid up: at most ~2 cells per particle (larger cells stay correct).
-    const double max_cells = 2.0 * static_cast<double>(n) + 64.0;
-    for (;;) {
-        double cells = 1.0;
-        for (int d = 0; d < 3; ++d) {
-            g.dims[d] = std::max(1L, static_cast<long>(std::floor(extent[d] / g.edge)));
-            cells *= static_cast<double>(g.dims[d]);
-        }
-        if (cells <= max_cells) {
-            break;
-        }
-        g.edge *= std::cbrt(cells / max_cells) * 1.01;
-    }
-    const long cells = g.dims[0] * g.dims[1] * g.dims[2];
-    std::vector<std::int32_t> cell_of(n);
-    g.start.assign(static_cast<std::size_t>(cells) + 1, 0);
-    for (std::size_t q = 0; q < n; ++q) {
-        cell_of[q] = static_cast<std::int32_t>(g.index(g.cellOf(load3(p.position.data(), q))));
-        ++g.start[static_cast<std::size_t>(cell_of[q]) + 1];
-    }
-    for (long c = 0; c < cells; ++c) {
-        g.start[static_cast<std::size_t>(c) + 1] += g.start[static_cast<std::size_t>(c)];
-    }
-    g.items.resize(n);
-    std::vector<std::int32_t> fill(g.start.begin(), g.start.end() - 1);
-    for (std::size_t q = 0; q < n; ++q) {
-        g.items[static_cast<std::size_t>(fill[static_cast<std::size_t>(cell_of[q])]++)] = static_cast<std::int32_t>(q);
-    }
-    return g;
-}
-
-/// Calls visit(j) for every particle j > q in q's cell and the 26 around it.
-template <class Visit> void forNeighbourCandidates(const CellGrid& g, const Particles& p, std::size_t q, Visit&& visit) {
-    const std::array<long, 3> c = g.cellOf(load3(p.position.data(), q));
-    for (long dz = -1; dz <= 1; ++dz) {
-        for (long dy = -1; dy <= 1; ++dy) {
-            for (long dx = -1; dx <= 1; ++dx) {
-                const std::array<long, 3> o{c[0] + dx, c[1] + dy, c[2] + dz};
-                if (o[0] < 0 || o[1] < 0 || o[2] < 0 || o[0] >= g.dims[0] || o[1] >= g.dims[1] || o[2] >= g.dims[2]) {
-                    continue;
-                }
-                const long cell = g.index(o);
-                for (std::int32_t s = g.start[static_cast<std::size_t>(cell)]; s < g.start[static_cast<std::size_t>(cell) + 1]; ++s) {
-                    const std::int32_t other = g.items[static_cast<std::size_t>(s)];
-                    if (other > static_cast<std::int32_t>(q)) {
-                        visit(other);
-                    }
-                }
-            }
-        }
-    }
-}
 
 bool within(const Particles& p, std::size_t a, std::size_t b, double gap) {
     const double reach = p.radius[a] + p.radius[b] + gap;
@@ -112,13 +30,23 @@ bool within(const Particles& p, std::size_t a, std::size_t b, double gap) {
 void ContactList::build(const Particles& p, const Bonds& bonds, const Incidence& incidence) {
     const std::size_t n = p.size();
     const double r_max = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
-    const CellGrid grid = buildGrid(p, 2.0 * r_max + skin);
+    // Far-flying fragments must not blow the grid up: at most ~2 cells per particle (wider cells stay exact).
+    CellGrid grid;
+    if (n > 0) {
+        grid.setupAround(p.position.data(), n, 2.0 * r_max + skin, std::min(2 * n + 64, CellGrid::kMaxCells));
+        grid.bin(p.position.data(), n);
+    }
+    auto near = [&](std::size_t q, std::int32_t other, double d2) {
+        const double reach = p.radius[q] + p.radius[static_cast<std::size_t>(other)] + skin;
+        return d2 < reach * reach;
+    };
 
     // Pass 1: how many candidates each particle has above it; pass 2: fill and sort each particle's slice.
     std::vector<std::int32_t> count(n + 1, 0);
     parallelFor("contacts.build", n, [&](std::size_t q) {
         std::int32_t c = 0;
-        forNeighbourCandidates(grid, p, q, [&](std::int32_t other) { c += within(p, q, static_cast<std::size_t>(other), skin) ? 1 : 0; });
+        grid.forEachNeighbourAbove(p.position.data(), q,
+                                   [&](std::int32_t other, double d2) { c += near(q, other, d2) ? 1 : 0; });
         count[q + 1] = c;
     });
     for (std::size_t q = 0; q < n; ++q) {
@@ -128,8 +56,8 @@ void ContactList::build(const Particles& p, const Bonds& bonds, const Incidence&
     std::vector<std::int32_t> new_i(pairs), new_j(pairs), new_bond(pairs, -1);
     parallelFor("contacts.build", n, [&](std::size_t q) {
         std::size_t slot = static_cast<std::size_t>(count[q]);
-        forNeighbourCandidates(grid, p, q, [&](std::int32_t other) {
-            if (within(p, q, static_cast<std::size_t>(other), skin)) {
+        grid.forEachNeighbourAbove(p.position.data(), q, [&](std::int32_t other, double d2) {
+            if (near(q, other, d2)) {
                 new_i[slot] = static_cast<std::int32_t>(q);
                 new_j[slot++] = other;
             }
@@ -252,16 +180,10 @@ LinearContact contactLaw(const Scene& scene, const Model& model) {
         // The mean beam axial stiffness E_μ π r_μ²/l₀ (reference note §7.2: fragments then interpenetrate no
         // more than the bonded network deforms).
         const Bonds& b = model.bonds;
-        for (std::size_t k = 0; k < b.size(); ++k) {
-            k_n += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.rest_length[k];
-        }
         if (b.size() > 0) {
-            k_n /= static_cast<double>(b.size());
+            k_n = meanAxialStiffness(b);
         } else { // no bonds: the same for two touching mean spheres, l₀ = 2R̄
-            double mean_radius = 0.0;
-            for (double r : model.particles.radius) {
-                mean_radius += r / static_cast<double>(model.particles.size());
-            }
+            const double mean_radius = meanRadius(model.particles);
             const double r_mu = scene.material.radius_ratio * mean_radius;
             k_n = scene.material.beam_young * std::numbers::pi * r_mu * r_mu / (2.0 * mean_radius);
         }
@@ -284,10 +206,7 @@ double contactOmegaSquared(const Scene& scene, const Model& model) {
     // contact network near this configuration is a subset of it, and adding a pair's (positive semi-definite)
     // stiffness never lowers λ_max, so its λ_max bounds theirs; found by power iteration (λ_R + ‖r‖, as
     // solver/step/frequency.cpp), deterministic (fixed seed, deterministic kernels).
-    double mean_radius = 0.0;
-    for (double r : p.radius) {
-        mean_radius += r / static_cast<double>(n);
-    }
+    const double mean_radius = meanRadius(p);
     ContactList candidates;
     candidates.skin = scene.contact.skin_ratio * mean_radius;
     candidates.build(p, model.bonds, model.incidence);
@@ -340,11 +259,7 @@ std::optional<Contact> buildContact(const Scene& scene, const Model& model) {
         return std::nullopt;
     }
     Contact c;
-    double mean_radius = 0.0;
-    for (double r : model.particles.radius) {
-        mean_radius += r / static_cast<double>(model.particles.size());
-    }
-    c.list.skin = scene.contact.skin_ratio * mean_radius;
+    c.list.skin = scene.contact.skin_ratio * meanRadius(model.particles);
     c.list.stale = true;
     c.law = contactLaw(scene, model);
     c.restitution = scene.contact.restitution;

@@ -15,7 +15,6 @@
 namespace vitrum {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 /// Slowest approach speed near the target force, as a fraction of the stage speed: keeps the load stage
 /// finite while the last force increment per step stays far below 1 % of the target.
 constexpr double kMinSpeedFraction = 0.005;
@@ -56,10 +55,9 @@ Indenter makeIndenter(const Scene& scene, const Model& model) {
     const Particles& parts = model.particles;
     const std::size_t n = parts.size();
     double top = -std::numeric_limits<double>::infinity();
-    double mean_radius = 0.0;
+    const double mean_radius = meanRadius(parts);
     for (std::size_t i = 0; i < n; ++i) {
         top = std::max(top, parts.position[3 * i + 2] + parts.radius[i]);
-        mean_radius += parts.radius[i] / static_cast<double>(n);
     }
     // The top layer: particle tops within half a mean radius of the highest one.
     double level = 0.0;
@@ -80,12 +78,8 @@ Indenter makeIndenter(const Scene& scene, const Model& model) {
     ind.law.stiffness = p.stiffness;
     if (ind.law.stiffness <= 0.0) {
         // Twice the mean axial stiffness E_μ π r_μ² / l₀ of the beams (reference note §7.2: 1–10×).
-        double k = 0.0;
         const Bonds& b = model.bonds;
-        for (std::size_t e = 0; e < b.size(); ++e) {
-            k += b.young[e] * kPi * b.section_radius[e] * b.section_radius[e] / b.rest_length[e];
-        }
-        ind.law.stiffness = b.size() > 0 ? 2.0 * k / static_cast<double>(b.size()) : 1.0;
+        ind.law.stiffness = b.size() > 0 ? 2.0 * meanAxialStiffness(b) : 1.0;
     }
     // Friction creeps below 1 % of the slowest stage speed.
     double slowest = 0.0;

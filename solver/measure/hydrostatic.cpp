@@ -50,10 +50,7 @@ void surfaceAndInterior(const Model& model, const PressureLoad& load, Hydrostati
                            .normalized(); // counter-clockwise seen from outside: outward
         planes.push_back({n.x(), n.y(), n.z(), n.dot(a)});
     }
-    double mean_radius = 0.0;
-    for (double radius : p.radius) {
-        mean_radius += radius / static_cast<double>(p.size());
-    }
+    const double mean_radius = meanRadius(p);
     r.mean_radius = mean_radius;
     r.interior_depth = 2.0 * mean_radius;
     // Interior particles and the volume change of their hull.

@@ -29,10 +29,7 @@ UniaxialGauge uniaxialGauge(const Model& model, int axis) {
         hi = std::max(hi, p.initial_position[3 * i + axis]);
     }
     g.gauge = hi - lo;
-    double mean_diameter = 0.0;
-    for (double r : p.radius) {
-        mean_diameter += 2.0 * r / static_cast<double>(p.size());
-    }
+    const double mean_diameter = 2.0 * meanRadius(p); // Σ 2R_i/n: doubling is exact
     double z_lower = 0.0;
     double z_upper = 0.0;
     for (std::size_t i = 0; i < p.size(); ++i) {

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
+#include "solver/model/cell_grid.hpp"
 #include "solver/model/particles.hpp"
 #include "solver/scene.hpp"
 
@@ -122,6 +124,17 @@ IncidenceView Incidence::view() const {
     return IncidenceView{offset.size() - 1, offset.data(), entry.data(), ready.data()};
 }
 
+double meanAxialStiffness(const Bonds& b) {
+    if (b.size() == 0) {
+        return 0.0;
+    }
+    double sum = 0.0;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        sum += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.rest_length[k];
+    }
+    return sum / static_cast<double>(b.size());
+}
+
 Bonds bondNeighbours(const Particles& p, double tolerance, const MaterialParams& material) {
     const std::size_t n = p.size();
     Bonds bonds;
@@ -129,63 +142,16 @@ Bonds bondNeighbours(const Particles& p, double tolerance, const MaterialParams&
         return bonds;
     }
     const double r_max = *std::max_element(p.radius.begin(), p.radius.end());
-    const double cell = 2.0 * r_max * (1.0 + tolerance);
-    Vec3 lo = load3(p.position.data(), 0);
-    Vec3 hi = lo;
-    for (std::size_t a = 1; a < n; ++a) {
-        lo = lo.cwiseMin(load3(p.position.data(), a));
-        hi = hi.cwiseMax(load3(p.position.data(), a));
-    }
-    const Eigen::Vector3i dims = (((hi - lo) / cell).array().floor().cast<int>() + 1).matrix();
-    auto cellOf = [&](const Vec3& x) {
-        Eigen::Vector3i c = ((x - lo) / cell).array().floor().cast<int>().matrix();
-        return c.cwiseMin(dims - Eigen::Vector3i::Ones()).cwiseMax(Eigen::Vector3i::Zero()).eval();
-    };
-    auto flat = [&](const Eigen::Vector3i& c) {
-        return (static_cast<std::size_t>(c.z()) * static_cast<std::size_t>(dims.y()) + static_cast<std::size_t>(c.y())) *
-                   static_cast<std::size_t>(dims.x()) + static_cast<std::size_t>(c.x());
-    };
-    const std::size_t n_cells = static_cast<std::size_t>(dims.x()) * dims.y() * dims.z();
-    std::vector<std::int32_t> head(n_cells + 1, 0);
-    std::vector<std::size_t> cell_of(n);
-    for (std::size_t a = 0; a < n; ++a) {
-        cell_of[a] = flat(cellOf(load3(p.position.data(), a)));
-        ++head[cell_of[a] + 1];
-    }
-    for (std::size_t c = 0; c < n_cells; ++c) {
-        head[c + 1] += head[c];
-    }
-    std::vector<std::int32_t> members(n);
-    std::vector<std::int32_t> fill(head.begin(), head.end() - 1);
-    for (std::size_t a = 0; a < n; ++a) {
-        members[static_cast<std::size_t>(fill[cell_of[a]]++)] = static_cast<std::int32_t>(a);
-    }
+    CellGrid grid;
+    grid.setupAround(p.position.data(), n, 2.0 * r_max * (1.0 + tolerance));
+    grid.bin(p.position.data(), n);
     std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
-    for (std::size_t a = 0; a < n; ++a) {
-        const Vec3 xa = load3(p.position.data(), a);
-        const Eigen::Vector3i ca = cellOf(xa);
-        for (int dz = -1; dz <= 1; ++dz) {
-            for (int dy = -1; dy <= 1; ++dy) {
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const Eigen::Vector3i cb = ca + Eigen::Vector3i(dx, dy, dz);
-                    if ((cb.array() < 0).any() || (cb.array() >= dims.array()).any()) {
-                        continue;
-                    }
-                    const std::size_t c = flat(cb);
-                    for (std::int32_t m = head[c]; m < head[c + 1]; ++m) {
-                        const std::int32_t b = members[static_cast<std::size_t>(m)];
-                        if (static_cast<std::size_t>(b) <= a) {
-                            continue;
-                        }
-                        const double reach = (1.0 + tolerance) * (p.radius[a] + p.radius[static_cast<std::size_t>(b)]);
-                        if ((load3(p.position.data(), static_cast<std::size_t>(b)) - xa).squaredNorm() < reach * reach) {
-                            pairs.emplace_back(static_cast<std::int32_t>(a), b);
-                        }
-                    }
-                }
-            }
+    grid.forEachPair(p.position.data(), n, [&](std::size_t a, std::int32_t b, double d2) {
+        const double reach = (1.0 + tolerance) * (p.radius[a] + p.radius[static_cast<std::size_t>(b)]);
+        if (d2 < reach * reach) {
+            pairs.emplace_back(static_cast<std::int32_t>(a), b);
         }
-    }
+    });
     std::sort(pairs.begin(), pairs.end());
     for (const auto& [a, b] : pairs) {
         bonds.add(p, a, b, material);

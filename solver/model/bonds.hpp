@@ -64,6 +64,10 @@ struct Incidence {
     IncidenceView view() const;
 };
 
+/// Mean axial stiffness of the beams ⟨E_μ π r_μ² / l₀⟩, mN/µm: the sum over every bond (broken ones
+/// included) in bond order, over the bond count; 0 without bonds.
+double meanAxialStiffness(const Bonds& bonds);
+
 /// Bonds every pair whose centre distance is below (1 + tolerance)(R_a + R_b), found with a cell list.
 /// Deterministic: pairs come out sorted by (i, j).
 Bonds bondNeighbours(const Particles& particles, double tolerance, const MaterialParams& material);

@@ -11,8 +11,9 @@
 #include <stdexcept>
 
 #include "kernels/parallel.hpp"
-#include "solver/model/bonds.hpp"
 #include "solver/errors.hpp"
+#include "solver/model/bonds.hpp"
+#include "solver/model/cell_grid.hpp"
 #include "solver/model/particles.hpp"
 
 namespace vitrum {
@@ -53,6 +54,24 @@ double inscribedRadius(const PackingParams& p) {
         return 0.5 * p.radius;
     }
     return 0.0;
+}
+
+/// The keys that set the shape's dimensions and their values, for messages: "size = [x, y, z] um", ...
+std::string shapeKeys(const PackingParams& p) {
+    char buf[160] = "";
+    switch (shapeKind(p.shape)) {
+    case ShapeKind::Box:
+        std::snprintf(buf, sizeof buf, "size = [%.6g, %.6g, %.6g] um", p.size.x(), p.size.y(), p.size.z());
+        break;
+    case ShapeKind::Cylinder:
+        std::snprintf(buf, sizeof buf, "radius = %.6g um, height = %.6g um", p.radius, p.height);
+        break;
+    case ShapeKind::Sphere:
+    case ShapeKind::Hemisphere:
+        std::snprintf(buf, sizeof buf, "radius = %.6g um", p.radius);
+        break;
+    }
+    return buf;
 }
 
 /// Bounding box of the shape.
@@ -167,17 +186,6 @@ double sphereVolume(double r) {
 // of partial sums), so results do not depend on which path ran or on the thread count.
 constexpr std::size_t kParallelFrom = 2 * kReduceChunk;
 
-template <class Body> void forEachIndex(const char* label, std::size_t n, Body&& body) {
-    if (n >= kParallelFrom) {
-        parallelFor(label, n, body);
-        return;
-    }
-    ScopedTimer timer(label);
-    for (std::size_t i = 0; i < n; ++i) {
-        body(i);
-    }
-}
-
 template <class T, class Contribution>
 T reduceOver(const char* label, std::size_t n, const T& zero, Contribution&& contribution) {
     if (n >= kParallelFrom) {
@@ -229,85 +237,6 @@ struct SumOf {
     }
 };
 
-/// Cell grid over a bounding box; points outside it are clamped into the edge cells (which never loses a
-/// pair closer than one cell: clamping keeps cell coordinates of such points at most one apart).
-struct CellGrid {
-    Vec3 lo = Vec3::Zero();
-    double cell = 1.0;
-    Eigen::Vector3i dims = Eigen::Vector3i::Ones();
-    std::vector<std::int32_t> head;    ///< n_cells + 1 offsets into members
-    std::vector<std::int32_t> members; ///< particle indices, ascending within each cell
-
-    void setup(const Vec3& box_lo, const Vec3& box_hi, double cell_size) {
-        lo = box_lo;
-        cell = cell_size;
-        const Vec3 extent = (box_hi - box_lo) / cell;
-        for (int c = 0; c < 3; ++c) {
-            // Cap the grid at 2^10 cells per axis: enough for any packing we build, and the flat index fits.
-            dims[c] = std::clamp(static_cast<int>(std::ceil(extent[c])), 1, 1024);
-        }
-    }
-
-    Eigen::Vector3i cellOf(const Vec3& x) const {
-        Eigen::Vector3i c;
-        for (int k = 0; k < 3; ++k) {
-            const double u = std::floor((x[k] - lo[k]) / cell);
-            c[k] = static_cast<int>(std::clamp(u, 0.0, static_cast<double>(dims[k] - 1)));
-        }
-        return c;
-    }
-
-    std::size_t flat(const Eigen::Vector3i& c) const {
-        return (static_cast<std::size_t>(c.z()) * static_cast<std::size_t>(dims.y()) +
-                static_cast<std::size_t>(c.y())) *
-                   static_cast<std::size_t>(dims.x()) +
-               static_cast<std::size_t>(c.x());
-    }
-
-    std::size_t cellCount() const {
-        return static_cast<std::size_t>(dims.x()) * static_cast<std::size_t>(dims.y()) *
-               static_cast<std::size_t>(dims.z());
-    }
-
-    /// Counting sort of the points (3n interleaved coordinates) into cells.
-    void bin(const double* x, std::size_t n) {
-        const std::size_t cells = cellCount();
-        head.assign(cells + 1, 0);
-        std::vector<std::size_t> cell_index(n);
-        forEachIndex("pack.bin", n, [&](std::size_t i) { cell_index[i] = flat(cellOf(load3(x, i))); });
-        for (std::size_t i = 0; i < n; ++i) {
-            ++head[cell_index[i] + 1];
-        }
-        for (std::size_t c = 0; c < cells; ++c) {
-            head[c + 1] += head[c];
-        }
-        members.resize(n);
-        std::vector<std::int32_t> fill(head.begin(), head.end() - 1);
-        for (std::size_t i = 0; i < n; ++i) {
-            members[static_cast<std::size_t>(fill[cell_index[i]]++)] = static_cast<std::int32_t>(i);
-        }
-    }
-
-    /// Calls visit(j) for every binned particle j in the 27 cells around x, in a fixed order.
-    template <class Visit> void forEachNear(const Vec3& x, Visit&& visit) const {
-        const Eigen::Vector3i c = cellOf(x);
-        for (int dz = -1; dz <= 1; ++dz) {
-            for (int dy = -1; dy <= 1; ++dy) {
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const Eigen::Vector3i d = c + Eigen::Vector3i(dx, dy, dz);
-                    if ((d.array() < 0).any() || (d.array() >= dims.array()).any()) {
-                        continue;
-                    }
-                    const std::size_t f = flat(d);
-                    for (std::int32_t m = head[f]; m < head[f + 1]; ++m) {
-                        visit(members[static_cast<std::size_t>(m)]);
-                    }
-                }
-            }
-        }
-    }
-};
-
 std::vector<double> flatten(const std::vector<Vec3>& points) {
     std::vector<double> out(3 * points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -325,30 +254,18 @@ void forEachClosePair(const std::vector<Vec3>& centres, const std::vector<double
     if (n < 2) {
         return;
     }
-    Vec3 lo = centres[0];
-    Vec3 hi = centres[0];
-    for (const Vec3& x : centres) {
-        lo = lo.cwiseMin(x);
-        hi = hi.cwiseMax(x);
-    }
     const double r_max = *std::max_element(radii.begin(), radii.end());
-    CellGrid grid;
-    grid.setup(lo, hi, std::max(2.0 * r_max * (1.0 + gap_cap), 1e-300));
     const std::vector<double> flat = flatten(centres);
+    CellGrid grid;
+    grid.setupAround(flat.data(), n, std::max(2.0 * r_max * (1.0 + gap_cap), 1e-300));
     grid.bin(flat.data(), n);
-    for (std::size_t i = 0; i < n; ++i) {
-        grid.forEachNear(centres[i], [&](std::int32_t j) {
-            if (static_cast<std::size_t>(j) <= i) {
-                return;
-            }
-            const double sum = radii[i] + radii[static_cast<std::size_t>(j)];
-            const double reach = (1.0 + gap_cap) * sum;
-            const double d2 = (centres[static_cast<std::size_t>(j)] - centres[i]).squaredNorm();
-            if (d2 < reach * reach) {
-                visit(static_cast<std::int32_t>(i), j, std::sqrt(d2) / sum - 1.0);
-            }
-        });
-    }
+    grid.forEachPair(flat.data(), n, [&](std::size_t i, std::int32_t j, double d2) {
+        const double sum = radii[i] + radii[static_cast<std::size_t>(j)];
+        const double reach = (1.0 + gap_cap) * sum;
+        if (d2 < reach * reach) {
+            visit(static_cast<std::int32_t>(i), j, std::sqrt(d2) / sum - 1.0);
+        }
+    });
 }
 
 /// Region packing fraction over interleaved centres (see regionPackingFraction).
@@ -548,7 +465,7 @@ private:
         ++builds_;
         const double r_max = *std::max_element(r_.begin(), r_.end());
         grid_.setup(box_lo_, box_hi_, 2.0 * r_max + skin_);
-        grid_.bin(x_.data(), n_);
+        grid_.bin(x_.data(), n_, "pack.bin");
         for (;;) {
             nbr_.resize(n_ * row_);
             count_.resize(n_);
@@ -825,6 +742,17 @@ void validatePackingParams(const PackingParams& p) {
     const double mean = std::cbrt(p.target_packing_fraction * volume /
                                   (static_cast<double>(p.particles) * 4.0 / 3.0 * kPi * (1.0 + d * d)));
     const double largest = mean * (1.0 + d);
+    // The minimiser works with sphere volumes, squared distances and a cell grid of about 2 R: all of them
+    // must stay normal finite numbers (a 5e-324 um sphere would give radii of 0).
+    if (!std::isnormal(sphereVolume(mean * (1.0 - d))) || !std::isfinite(sphereVolume(largest))) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, " give particles of mean radius %.4g um (shape volume %.4g um3)", mean,
+                      volume);
+        throw std::invalid_argument("packing: " + shapeKeys(p) +
+                                    " and particles = " + std::to_string(p.particles) + buf +
+                                    ", too small or too large to compute with; expected a shape and particle "
+                                    "count whose particle volumes are normal floating-point numbers");
+    }
     const double room = inscribedRadius(p);
     if (largest > room) {
         char buf[200];
@@ -962,7 +890,12 @@ Packing packRandom(const PackingParams& params) {
 
     // 2–3. Compact inside the walls and reach the target φ.
     Compactor compactor(params, flatten(drawn), radii);
-    compactor.run();
+    try {
+        compactor.run();
+    } catch (const CellGridError& e) { // validatePackingParams keeps the radii representable: a safeguard
+        throw std::invalid_argument("packing: " + shapeKeys(params) +
+                                    " and particles = " + std::to_string(params.particles) + ": " + e.what());
+    }
 
     // 4. Morton order of the final centres, bonds, report.
     std::vector<Vec3> centres(n);

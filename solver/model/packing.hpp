@@ -90,7 +90,8 @@ PackingParams packingParamsFor(const SampleParams& sample, std::uint64_t seed);
 
 /// Throws std::invalid_argument with a message naming the key when the parameters cannot give a packing:
 /// unknown shape, non-positive dimensions or counts, φ outside (0, 0.74], dispersion outside [0, 1), a
-/// coordination the minimum bond count makes impossible, or a shape too thin for its largest particle.
+/// coordination the minimum bond count makes impossible, a shape too thin for its largest particle, or a
+/// shape size and particle count whose particle volumes are not normal finite numbers (radius = 5e-324).
 void validatePackingParams(const PackingParams& params);
 
 /// What the packing is like. Normalisations:

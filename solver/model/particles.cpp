@@ -58,4 +58,12 @@ ParticleView Particles::view() {
     return v;
 }
 
+double meanRadius(const Particles& particles) {
+    double mean = 0.0;
+    for (double r : particles.radius) {
+        mean += r / static_cast<double>(particles.size());
+    }
+    return mean;
+}
+
 } // namespace vitrum

@@ -45,6 +45,9 @@ struct Particles {
     DamageView damageView();
 };
 
+/// Mean radius R̄ = Σ_i (R_i / n), µm, summed in index order (every caller gets the same bits); 0 for none.
+double meanRadius(const Particles& particles);
+
 /// The field table of the particle store: calls `field(descriptor, member)` for every field, in a fixed
 /// order. Works on const and non-const stores. The checkpoint writes and reads through it
 /// (io/checkpoint.cpp checks at compile time that it covers every member), and placeModelArrays places

@@ -43,6 +43,13 @@ const Malformed kCases[] = {
     {"ZeroHeight", "[sample]\nheight = 0.0\n" BASE_TIME, {"@F:2:", "sample.height"}},
     {"NegativeParticles", "[sample]\nparticles = -5\n" BASE_TIME, {"@F:2:", "sample.particles"}},
     {"UnknownShape", "[sample]\nshape = \"torus\"\n" BASE_TIME, {"@F:2:", "sample.shape", "hemisphere"}},
+    // Particles of radius 0 (the shape's volume underflows): refused before the packer's grid (it crashed).
+    {"RandomPackingOfATinySphere",
+     "[sample]\nlattice = \"random\"\nshape = \"sphere\"\nradius = 5e-324\n" BASE_TIME,
+     {"@F: [sample]: packing: radius = 4.94066e-324 um and particles = 1000", "mean radius 0 um"}},
+    {"RandomPackingOfATinyBox",
+     "[sample]\nlattice = \"random\"\nsize = [1e-120, 1e-120, 1e-120]\n" BASE_TIME,
+     {"@F: [sample]: packing: size = [1e-120, 1e-120, 1e-120] um and particles = 1000"}},
     {"ImpossiblePackingFraction", "[sample]\nlattice = \"random\"\npacking_fraction = 0.95\n" BASE_TIME,
      {"@F:3:", "sample.packing_fraction"}},
     {"ImpossibleCoordination", "[sample]\nlattice = \"random\"\ncoordination = 40.0\n" BASE_TIME,

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <stdexcept>
@@ -18,8 +19,9 @@
 
 #include "io/packing_io.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/model/bonds.hpp"
 #include "solver/errors.hpp"
+#include "solver/model/bonds.hpp"
+#include "solver/model/model.hpp"
 #include "solver/model/packing.hpp"
 #include "solver/model/particles.hpp"
 #include "solver/model/sample.hpp"
@@ -215,6 +217,57 @@ TEST(Packing, BadInputIsRejectedWithAClearMessage) {
     rejects(p, "min_bonds");
 }
 
+// Shapes whose particles would have radii (or volumes) of 0 or infinity are refused before packing, naming
+// the keys: a 5e-324 um sphere crashed the neighbour grid (cells of edge 0), a 1e300 um one overflows.
+TEST(Packing, UnrepresentableParticleSizesAreRejectedNamingTheKeys) {
+    auto rejects = [](PackingParams p, const std::vector<std::string>& needles) {
+        try {
+            validatePackingParams(p);
+            ADD_FAILURE() << "accepted input that should fail (" << needles.front() << ")";
+        } catch (const std::invalid_argument& e) {
+            for (const std::string& needle : needles) {
+                EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+            }
+        }
+    };
+    PackingParams p = smallParams("sphere", 10);
+    p.radius = 5e-324;
+    rejects(p, {"radius = 4.94066e-324 um", "particles = 10", "mean radius 0 um"});
+    EXPECT_THROW(packRandom(p), std::invalid_argument); // packRandom validates: no crash
+    p.radius = 1e300;
+    rejects(p, {"radius = 1e+300 um", "mean radius inf um"});
+    p = smallParams("box", 500);
+    p.size = Vec3(1e-120, 1e-120, 1e-120);
+    rejects(p, {"size = [1e-120, 1e-120, 1e-120] um", "particles = 500"});
+    p = smallParams("cylinder", 500);
+    p.height = 1e-320;
+    rejects(p, {"radius = 3 um, height = 9.99989e-321 um"});
+    // The count alone: 1e-100 um gives representable particles for 10 of them, not for 2^31 - 1.
+    p = smallParams("hemisphere", 10);
+    p.radius = 1e-100;
+    EXPECT_NO_THROW(validatePackingParams(p));
+    p.particles = std::numeric_limits<std::int32_t>::max();
+    rejects(p, {"radius = 1e-100 um", "particles = 2147483647"});
+}
+
+// Through a scene: the packer's refusal is an InputError naming the [sample] table.
+TEST(Packing, TinySceneRadiusIsAnInputError) {
+    Scene scene;
+    scene.source_path = "tiny.toml";
+    scene.sample.lattice = "random";
+    scene.sample.shape = "sphere";
+    scene.sample.radius = 5e-324;
+    scene.sample.particles = 100;
+    try {
+        buildSample(scene);
+        FAIL() << "a 5e-324 um sphere was packed";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("tiny.toml: [sample]: packing: radius = 4.94066e-324 um"), std::string::npos)
+            << what;
+    }
+}
+
 // A target above random close packing cannot be met: a clear RuntimeFailure, quickly, never a hang.
 TEST(Packing, UnreachableTargetFailsInsteadOfHanging) {
     PackingParams p = smallParams("box", 400);
@@ -295,6 +348,24 @@ TEST(Packing, MakeBondsUsesBondsAdd) {
         EXPECT_DOUBLE_EQ(bonds.rest_length[b], d);
     }
     EXPECT_THROW(makeBonds(particles, {{0, 300}}, material), std::invalid_argument);
+}
+
+// The store means on a chain of three spheres (R = 1, 2, 4 µm, touching): R̄ = 7/3 µm; the beams (section
+// radius r̃ (R_a + R_b)/2, rest length R_a + R_b) have axial stiffness E π r̃² (R_a + R_b)/4, whose mean over
+// the two is E π r̃² (3 + 6)/8. Empty stores give 0.
+TEST(Packing, MeanRadiusAndMeanAxialStiffnessOfTheStores) {
+    const std::vector<Vec3> centres = {Vec3(0, 0, 0), Vec3(3, 0, 0), Vec3(9, 0, 0)};
+    const Particles particles = Particles::spheres(centres, {1.0, 2.0, 4.0}, 2.2);
+    EXPECT_DOUBLE_EQ(meanRadius(particles), 7.0 / 3.0);
+    EXPECT_EQ(meanRadius(particles), 1.0 / 3.0 + 2.0 / 3.0 + 4.0 / 3.0); // Σ R_i / n in index order
+    const MaterialParams material;
+    const Bonds bonds = makeBonds(particles, {{0, 1}, {1, 2}}, material);
+    const double r = material.radius_ratio;
+    // Tolerance: a few roundings of terms near E (the rest lengths come from sqrt of exact squares).
+    EXPECT_NEAR(meanAxialStiffness(bonds), material.beam_young * std::numbers::pi * r * r * 9.0 / 8.0,
+                1e-12 * material.beam_young);
+    EXPECT_EQ(meanRadius(Particles{}), 0.0);
+    EXPECT_EQ(meanAxialStiffness(Bonds{}), 0.0);
 }
 
 // Fabric normalisation: bonds along x, y and z in equal numbers → 0; all along z → 1.
