@@ -402,6 +402,7 @@ def fracture_strength():
     if not (ROOT / rel / "series.csv").exists():
         return ""
     sys.path.insert(0, str(ROOT / "examples" / "fracture"))
+    sys.dont_write_bytecode = True  # no __pycache__ in the source tree
     from strength import measure  # the example's own reading of its series.csv
 
     s = measure(ROOT / rel)
