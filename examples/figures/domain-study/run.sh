@@ -9,10 +9,10 @@
 #   other, and the 0.1 N box once more relaxed to rest; ~45 min on 2 cores. A run whose summary.json exists
 #   is kept, so an interrupted study resumes.
 #   Then compare.py writes OUT/tables.md and zone_figure.py OUT/densified_zone_{0.1N,0.5N}.png (the tables and
-#   figures of examples/README.md, "The coupled model against the whole box"; seed 1's are in seed1/).
+#   figures of CHANGELOG.md, issue 7, "The coupled model against the whole box"; seed 1's are in seed1/).
 # Programme: 100 m/s in and out, 5 ns hold; 0.1 N relaxes 60 ns (kinetic_tolerance 1e-12), 0.5 N as
-# the reduced 0.5 N pair of examples/README.md (coupled: weighted zone check, 5 ns relax), all three with the
-# coupled scene's 0.5 % slow band.
+# the reduced 0.5 N pair of CHANGELOG.md, issue 7 (coupled: weighted zone check, 5 ns relax), all three with
+# the coupled scene's 0.5 % slow band.
 set -euo pipefail
 out=${1:-out/domain-study}
 threads=${2:-2}
