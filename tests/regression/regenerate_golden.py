@@ -12,10 +12,11 @@ For each reduced scene of the test (the same `--set` overrides, one thread) it r
     arithmetic at round-off level (the size of what reordering a sum or fusing a multiply-add does), to show
     how far such a change carries through the run,
 
-and prints, per metric, the seed-1 value (the golden value), the mean, the sample standard deviation and the
-largest deviation from seed 1 over the seeds, the largest round-off deviation, and the tolerance the test uses:
-tol = max(3 sigma, max |seed - seed 1|, 10 x round-off deviation), rounded up to two significant digits (the
-test's comments give which term set each). Python 3 standard library only; about 2.5 min at one job.
+and prints, per metric, the seed-1 value (the golden value), the mean, the sample standard deviation and
+the largest deviation from seed 1 over the seeds, the largest round-off deviation, and the tolerance the test
+uses: tol = max(3 sigma, max |seed - seed 1|, 10 x round-off deviation), rounded up to two significant
+digits (the test's comments give which term set each). Python 3 standard library only; about 2.5 min at one
+job.
 """
 import argparse
 import concurrent.futures
@@ -29,9 +30,11 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 # The reductions of test_golden.cpp (keep the two in step).
-# The quickstart at 3 000 particles (R̄ ≈ 0.28 µm), its own 0.025 N, 50 m/s in and out, a 5 ns hold, 20 ns relax.
-QUICKSTART = ["--set", "sample.particles=3000", "--set", "stage[0].speed=0.05", "--set", "stage[1].duration=5.0",
-              "--set", "stage[2].speed=0.05", "--set", "stage[3].duration=20.0", "--set", "time.duration=200.0"]
+# The quickstart at 3 000 particles (R̄ ≈ 0.28 µm), its own 0.025 N, 50 m/s in and out, a 5 ns hold, 20 ns
+# relax.
+QUICKSTART = ["--set", "sample.particles=3000", "--set", "stage[0].speed=0.05",
+              "--set", "stage[1].duration=5.0", "--set", "stage[2].speed=0.05",
+              "--set", "stage[3].duration=20.0", "--set", "time.duration=200.0"]
 # The tensile cylinder at 5 000 particles, scaled to keep R̄ and L = 2D, on a fresh packing.
 TENSILE = ["--set", "sample.particles=5000", "--set", "sample.radius=2.78", "--set", "sample.height=11.1",
            "--set", 'sample.file=""']
@@ -129,7 +132,8 @@ def main():
             roff = max(abs(results[(case, 1, base * (1 + g * 1e-13))][0][label] - s1) for g in (1, -1))
             terms = {"3 std": 3 * std, "max dev": dev, "10 round-off": 10 * roff}
             by = max(terms, key=terms.get)
-            print(f"{label:34s} {s1:14.8g} {statistics.mean(seeds):14.8g} {std:11.3g} {dev:11.3g} {roff:11.3g}"
+            mean = statistics.mean(seeds)
+            print(f"{label:34s} {s1:14.8g} {mean:14.8g} {std:11.3g} {dev:11.3g} {roff:11.3g}"
                   f" {3 * std:11.3g} {up2(terms[by]):11.3g}  {by:8s} {results[(case, 1, base)][1]:.1f}")
     return 0
 
