@@ -33,3 +33,23 @@ bench: build
 
 clean:
 	rm -rf $(BUILD)
+
+# The paper's tables and figures (examples/paper/README.md): `make paper-NAME` for one, `make paper` for all
+# (hours), `make paper-quick` for all at the reduced resolution (about a minute each); QUICK=1 does the same
+# for one target. Each prints its expected wall time on 2 cores first and writes out/paper/NAME/ (quick:
+# out/paper/quick/NAME/). THREADS: threads per run.
+PYTHON  ?= /usr/bin/python3
+THREADS ?= 2
+PAPER   := table1 table3 table4 fig6 fig10 fig13 fig14 fig15
+PAPER_FLAGS = --threads $(THREADS) --vitrum $(BUILD)/vitrum $(if $(QUICK),--quick)
+
+.PHONY: paper paper-quick $(addprefix paper-,$(PAPER))
+
+$(addprefix paper-,$(PAPER)): paper-%: build
+	$(PYTHON) examples/paper/reproduce.py $* $(PAPER_FLAGS)
+
+paper: build
+	$(PYTHON) examples/paper/reproduce.py all $(PAPER_FLAGS)
+
+paper-quick: build
+	$(PYTHON) examples/paper/reproduce.py all $(PAPER_FLAGS) --quick
