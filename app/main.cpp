@@ -1,5 +1,7 @@
 // vitrum — DEM of sharp indentation of brittle glass. Exit codes: 0 success, 2 bad input, 1 runtime failure.
 #include <iostream>
+#include <string>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 
@@ -7,9 +9,57 @@
 #include "app/measure_command.hpp"
 #include "app/pack_command.hpp"
 #include "app/run_command.hpp"
+#include "io/checkpoint.hpp"
 #include "solver/errors.hpp"
 
+namespace {
+
+/// A whole number of at least 1, said so (CLI11's PositiveNumber prints a range up to 1.8e308).
+const CLI::Validator kAtLeastOne(
+    [](std::string& text) -> std::string {
+        try {
+            std::size_t used = 0;
+            const long long value = std::stoll(text, &used);
+            if (used == text.size() && value >= 1) {
+                return {};
+            }
+        } catch (const std::exception&) {
+        }
+        return "expected a whole number >= 1, got '" + text + "'";
+    },
+    "INT >= 1");
+
+/// A number > 0, said so.
+const CLI::Validator kPositive(
+    [](std::string& text) -> std::string {
+        try {
+            std::size_t used = 0;
+            const double value = std::stod(text, &used);
+            if (used == text.size() && value > 0.0 && value < 1e300) {
+                return {};
+            }
+        } catch (const std::exception&) {
+        }
+        return "expected a number > 0, got '" + text + "'";
+    },
+    "NUMBER > 0");
+
+/// The thread count asked for against the cores there are: more threads than cores stall every OpenMP
+/// barrier for a scheduler slice (the kernels then run many times slower), so it is allowed but said.
+void warnAboutThreads(int threads) {
+    const unsigned cores = std::thread::hardware_concurrency();
+    if (threads > 0 && cores > 0 && static_cast<unsigned>(threads) > cores) {
+        std::cerr << "vitrum: warning: --threads " << threads << " is more than the " << cores
+                  << " cores of this machine; threads that share a core make every parallel kernel wait for each "
+                     "other, so the run will be much slower than with --threads "
+                  << cores << "\n";
+    }
+}
+
+} // namespace
+
 int main(int argc, char** argv) {
+    vitrum::disableHdf5ExitCleanup();
     CLI::App app{"vitrum: discrete element simulation of sharp indentation of brittle glass\n"
                  "(cohesive Euler-Bernoulli beams, densification, virial-stress fracture, CNEM coupling)"};
     app.require_subcommand(1);
@@ -20,7 +70,7 @@ int main(int argc, char** argv) {
     run_cmd->add_option("scene", run.scene_path, "Scene file (TOML, units explicit)")->required();
     run_cmd->add_option("--out", run.out_dir, "Output directory (default: out/<scene name>)");
     run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(CLI::PositiveNumber);
+        ->check(kAtLeastOne);
     run_cmd->add_option("--set", run.overrides, "Override a scene key, e.g. --set sample.particles=2000")
         ->allow_extra_args(false);
     run_cmd->add_flag("--quiet", run.quiet, "Print only warnings, errors and the final summary line");
@@ -30,7 +80,7 @@ int main(int argc, char** argv) {
     run_cmd->add_option("--stop-after", run.stop_after,
                         "Save a checkpoint (state.h5) and stop after this many steps, e.g. to chain jobs under a "
                         "batch time limit; continue with --restart")
-        ->check(CLI::PositiveNumber);
+        ->check(kAtLeastOne);
 
     vitrum::MeasureOptions measure;
     CLI::App* measure_cmd = app.add_subcommand(
@@ -39,7 +89,7 @@ int main(int argc, char** argv) {
     measure_cmd->add_option("dir", measure.run_dir, "Output directory of the run")->required();
     measure_cmd->add_option("--out", measure.out_dir, "Where to write measure.json, imprint.csv, cutaway.csv "
                                                       "(default: the run's directory)");
-    measure_cmd->add_option("--threads", measure.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+    measure_cmd->add_option("--threads", measure.threads, "OpenMP threads")->check(kAtLeastOne);
 
     vitrum::PackOptions pack;
     std::vector<double> pack_size;
@@ -49,7 +99,7 @@ int main(int argc, char** argv) {
     pack_cmd->add_option("shape", pack.params.shape, "box | cylinder | sphere | hemisphere")
         ->required()->check(CLI::IsMember({"box", "cylinder", "sphere", "hemisphere"}));
     pack_cmd->add_option("--particles", pack.params.particles, "Number of spheres")->required()
-        ->check(CLI::PositiveNumber);
+        ->check(kAtLeastOne);
     pack_cmd->add_option("--radius", pack.params.radius, "Shape radius (um): cylinder, sphere, hemisphere")
         ->capture_default_str();
     pack_cmd->add_option("--height", pack.params.height, "Cylinder height (um)")->capture_default_str();
@@ -63,7 +113,7 @@ int main(int argc, char** argv) {
     pack_cmd->add_option("--seed", pack.params.seed, "Random seed")->capture_default_str();
     pack_cmd->add_option("--out", pack.output, "Packing file to write (.h5)")->required();
     pack_cmd->add_option("--json", pack.json, "Also write the report as JSON");
-    pack_cmd->add_option("--threads", pack.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+    pack_cmd->add_option("--threads", pack.threads, "OpenMP threads")->check(kAtLeastOne);
 
     vitrum::CalibrateOptions calibrate;
     CLI::App* calibrate_cmd = app.add_subcommand("calibrate", "Micro-macro calibration of the beam network");
@@ -84,7 +134,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     elastic_cmd->add_option("--output", calibrate.output, "Calibration file to write (TOML)")->capture_default_str();
     elastic_cmd->add_option("--set", calibrate.overrides, "Override a key of the tensile scene for every test");
-    elastic_cmd->add_option("--threads", calibrate.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+    elastic_cmd->add_option("--threads", calibrate.threads, "OpenMP threads")->check(kAtLeastOne);
 
     vitrum::DensificationCalibrateOptions densify;
     bool no_sensitivity = false;
@@ -107,15 +157,15 @@ int main(int argc, char** argv) {
     densify_cmd->add_option("--seed", densify.seed, "Packing seed")->capture_default_str();
     densify_cmd->add_option("--pressures", densify.pressures, "Maximum pressures P_max of the tests (GPa)")
         ->delimiter(',')->capture_default_str();
-    densify_cmd->add_option("--ramp", densify.ramp, "Ramp time (ns)")->capture_default_str()->check(CLI::PositiveNumber);
+    densify_cmd->add_option("--ramp", densify.ramp, "Ramp time (ns)")->capture_default_str()->check(kPositive);
     densify_cmd->add_option("--hold", densify.hold, "Hold time at P_max (ns)")->capture_default_str()->check(CLI::NonNegativeNumber);
-    densify_cmd->add_option("--release", densify.release, "Release time (ns)")->capture_default_str()->check(CLI::PositiveNumber);
+    densify_cmd->add_option("--release", densify.release, "Release time (ns)")->capture_default_str()->check(kPositive);
     densify_cmd->add_option("--rest", densify.rest, "Time at zero pressure after the release (ns)")
         ->capture_default_str()->check(CLI::NonNegativeNumber);
     densify_cmd->add_option("--onset", densify.target_onset, "Target P_d (GPa; Ji)")->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(kPositive);
     densify_cmd->add_option("--saturation", densify.target_saturation, "Target P_s (GPa; Ji)")->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(kPositive);
     densify_cmd->add_option("--volume-change", densify.target_volume_change, "Target saturated dV/V0 (%; Ji)")
         ->capture_default_str()->check(CLI::Range(0.01, 99.0));
     densify_cmd->add_option("--tolerances", densify.tolerances, "Tolerances on P_d, P_s (GPa) and dV/V0 (%)")
@@ -140,13 +190,22 @@ int main(int argc, char** argv) {
     densify_cmd->add_option("--output", densify.output,
                             "Calibration file to write (TOML; default: the scene's [material] calibration, which "
                             "gets its [densification] section replaced)");
-    densify_cmd->add_option("--threads", densify.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+    densify_cmd->add_option("--threads", densify.threads, "OpenMP threads")->check(kAtLeastOne);
 
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
+        // An unknown first word is not a missing subcommand: name it and the ones there are.
+        if (argc > 1 && argv[1][0] != '-' && app.get_subcommands().empty()) {
+            std::cerr << "vitrum: error: unknown subcommand '" << argv[1]
+                      << "'; expected one of: run, measure, pack, calibrate (vitrum --help)\n";
+            return 2;
+        }
         const int code = app.exit(e);
         return code == 0 ? 0 : 2;
+    }
+    for (const int threads : {run.threads, measure.threads, pack.threads, calibrate.threads, densify.threads}) {
+        warnAboutThreads(threads);
     }
     try {
         if (run_cmd->parsed()) {

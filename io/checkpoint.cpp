@@ -414,6 +414,8 @@ private:
 
 } // namespace
 
+void disableHdf5ExitCleanup() { H5dont_atexit(); }
+
 void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const RunState& state) {
     silenceHdf5Errors();
     const Writer writer(path);

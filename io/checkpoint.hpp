@@ -39,6 +39,11 @@ struct CheckpointMeta {
     std::string vitrum_version; ///< set by the caller on writing (the driver owns the version string)
 };
 
+/// Keeps the HDF5 library from running its own clean-up at process exit. Call first thing in main: a file whose
+/// close failed (disk full) stays open inside the library, and its exit-time clean-up would then crash the
+/// process (SIGSEGV) after the error was reported; every file vitrum opens is closed explicitly anyway.
+void disableHdf5ExitCleanup();
+
 /// Writes the checkpoint of `state` atomically: to `path + ".tmp"`, flushed, closed and fsync'ed, then renamed
 /// onto `path`, so a crash or a failure mid-write leaves the previous checkpoint at `path` intact (a failed
 /// write removes its .tmp). Throws RuntimeFailure (naming the path) on any I/O failure or if a field's length

@@ -23,6 +23,7 @@ std::string sampleCachePath(const Scene& scene) {
 }
 
 SampleSource loadOrBuildSample(const Scene& scene) {
+    checkSampleMemory(scene);
     const std::string path = sampleCachePath(scene);
     if (scene.sample.lattice != "random") {
         if (!path.empty()) {

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
 #include "kernels/integrate.hpp"
 #include "solver/effects/coupling.hpp"
+#include "solver/errors.hpp"
 #include "solver/model/model.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
@@ -96,6 +98,24 @@ Indenter makeIndenter(const Scene& scene, const Model& model) {
 std::optional<Indenter> buildIndenter(const Scene& scene, const Model& model) {
     if (!scene.hasEffect("indenter")) {
         return std::nullopt;
+    }
+    // The tool comes down along its axis: some particle must lie under it, or it never meets the sample and
+    // the run only ends when time.duration runs out.
+    const Particles& p = model.particles;
+    double nearest = std::numeric_limits<double>::infinity();
+    double largest_radius = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        nearest = std::min(nearest, std::hypot(p.position[3 * i] - scene.indenter.axis.x(),
+                                               p.position[3 * i + 1] - scene.indenter.axis.y()));
+        largest_radius = std::max(largest_radius, p.radius[i]);
+    }
+    if (!(nearest <= 2.0 * largest_radius)) {
+        std::ostringstream msg;
+        msg << scene.source_path << ": keys 'indenter.axis_x', 'indenter.axis_y': the tool axis at ("
+            << scene.indenter.axis.x() << ", " << scene.indenter.axis.y() << ") um passes " << nearest
+            << " um from the nearest particle centre: the tool does not meet the sample; expected an axis over "
+               "the sample's top face";
+        throw InputError(msg.str());
     }
     return makeIndenter(scene, model);
 }

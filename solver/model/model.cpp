@@ -1,6 +1,10 @@
 #include "solver/model/model.hpp"
 
 #include <algorithm>
+#include <sstream>
+
+#include <sys/resource.h>
+#include <unistd.h>
 #include <stdexcept>
 
 #include "solver/errors.hpp"
@@ -33,7 +37,43 @@ std::size_t Model::setIndex(const std::string& name) const {
     throw std::out_of_range("no particle set named '" + name + "'");
 }
 
+namespace {
+
+/// What one particle costs at the peak of a run, bytes: the stores with ~3 bonds each, the watchdog's copy of
+/// them and the packer's work arrays (peak RSS per particle measured at 2.0 KB; CHANGELOG.md). A little above:
+/// a run refused for memory is refused before any work, one that runs out of it fails hours in.
+constexpr double kPeakBytesPerParticle = 2560.0;
+
+/// The memory this process may use: the physical memory, or less under an address-space or data limit.
+double usableBytes() {
+    double bytes = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {
+        rlimit limit{};
+        if (::getrlimit(resource, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+            bytes = std::min(bytes, static_cast<double>(limit.rlim_cur));
+        }
+    }
+    return bytes;
+}
+
+} // namespace
+
+void checkSampleMemory(const Scene& scene) {
+    const double needed = static_cast<double>(scene.sample.particles) * kPeakBytesPerParticle;
+    const double usable = usableBytes();
+    if (usable > 0.0 && needed > usable) {
+        std::ostringstream msg;
+        msg << scene.source_path << ": key 'sample.particles': " << scene.sample.particles << " particles need about "
+            << needed / (1024.0 * 1024.0 * 1024.0) << " GiB (about " << kPeakBytesPerParticle / 1024.0
+            << " KiB each at the peak of a run), more than the " << usable / (1024.0 * 1024.0 * 1024.0)
+            << " GiB this process may use; expected at most " << static_cast<long long>(usable / kPeakBytesPerParticle)
+            << " particles here";
+        throw InputError(msg.str());
+    }
+}
+
 BondedSample buildSample(const Scene& scene) {
+    checkSampleMemory(scene);
     BondedSample out;
     if (!scene.sample.cut_from.empty()) {
         // Reading the source packing is the io layer's (io/sample_cache.hpp loadOrBuildSample).

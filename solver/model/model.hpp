@@ -49,6 +49,10 @@ struct BondedSample {
     std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
 };
 
+/// Refuses (InputError naming sample.particles, with the estimate) a sample whose particles cannot fit in the
+/// memory this process may use, before anything is allocated.
+void checkSampleMemory(const Scene& scene);
+
 /// The scene's sample: a lattice bonded within bond_tolerance, or a fresh dense random packing
 /// (solver/model/packing.hpp; the io layer adds the HDF5 cache of `sample.file`).
 BondedSample buildSample(const Scene& scene);
