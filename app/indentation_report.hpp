@@ -32,8 +32,8 @@ nlohmann::ordered_json crackJson(const CrackPattern& pattern, const CrackParams&
 class CrackSnapshots {
 public:
     /// A force drop of 3 % of the running maximum: the recorded force of a loading tool rises monotonically
-    /// without cracks (20 000-particle 30 N run: no drop at all in 90 recorded rows), so 3 % is well above
-    /// its noise and below the 10-30 % pop-ins of unstable cone/median cracking in glasses.
+    /// without cracks (the 30 N runs show no drop before cracking), so 3 % is well above its noise and below
+    /// the 10-30 % pop-ins of unstable cone/median cracking in glasses.
     static constexpr double kPopIn = 0.03;
     CrackSnapshots(const Model& model, const Effects& effects, std::filesystem::path out);
     /// Call at every recorded step; returns the tag of the snapshot taken ("onset", "unstable", "full_load")

@@ -20,7 +20,7 @@
 //                                  registers; they are still stored, for probes and output). Valid only when
 //                                  no other force phase (contacts, tool, pressure) runs between the two.
 //
-// The alternatives live here only; bench/README.md gives the numbers and the decisions.
+// The alternatives live here only; CHANGELOG.md gives the numbers and the decisions.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>

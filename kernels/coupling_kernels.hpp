@@ -24,7 +24,8 @@ namespace vitrum {
 /// s = (ξ(x) − inner)/(outer − inner) clamped to [0, 1], ξ the distance along `axis` from `origin` (planar
 /// zone) or from `origin` (radial zone: the paper's hemispherical shell, DEM inside), and p(s) = s (linear,
 /// the default: exact static consistency in 1D with uncut bonds, §4.5) or 3s² − 2s³ (cubic smoothstep:
-/// ~2× less reflection, 0.1–1 % static error). Dimensionless; inner < outer in µm.
+/// less wave reflection, a small static error: tests/verification/test_coupling.cpp measures both).
+/// Dimensionless; inner < outer in µm.
 struct BridgeZone {
     enum class Shape { Planar, Radial };
     enum class Profile { Linear, Cubic };

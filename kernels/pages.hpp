@@ -3,8 +3,7 @@
 // touched. The bond pass reads the far end's particle state and the gather the far bonds' loads all over
 // arrays of 10⁸ bytes; with 4 KiB pages most of those reads also miss the TLB. placeOnPages moves an array
 // into a freshly advised buffer: same values, bit for bit; only where the bytes live changes, so no result
-// depends on it. Design bench BM_Pages (bench/README.md,
-// "Session 20 on an Intel host").
+// depends on it. Design bench BM_Pages (bench/bench_kernels.cpp; its figures in CHANGELOG.md).
 #pragma once
 
 #include <cstddef>

@@ -18,7 +18,7 @@
 // Time step (RATTLE form of the project's kick–drift–kick): half kick of both models → projection →
 // drift → forces → half kick → projection. Constraining the half-step velocity keeps the displacement
 // constraint exact (no drift); the second projection makes the full-step velocities admissible (energy).
-// The DEM and CNEM force passes are independent and may later run as concurrent tasks.
+// The DEM and CNEM force passes are independent: the run computes them as concurrent tasks.
 //
 // Use (the `coupling` effect, solver/effects/coupling.hpp, composes the same halves with the run's force phases):
 //   Bridge bridge = buildBridge(particles, bonds, cnem, zone);       // once, after both models are built
@@ -46,8 +46,8 @@ struct BridgeOptions {
     /// mass). Why nodal: SCNI's weighted force −Σ_L w_L V_L σ b̃_J(x_L) must match the particle quadrature of
     /// N_J ∇α_c for a uniform strain to be an equilibrium; in 1D with linear α and cells centred on the nodes
     /// the nodal value does so exactly while the cell average is off by 25 % at the edge node (worked by
-    /// hand); measured on the 3D test bar (COUP-5): max strain deviation of the zone's DEM bonds 2.6 %
-    /// (nodal) against 12 % (cell average).
+    /// hand); on the 3D test bar (COUP-5) the nodal weight's strain deviation in the zone is a fraction of
+    /// the cell average's (the figures: CHANGELOG.md).
     enum class CellWeight { Nodal, CellAverage };
     CellWeight cell_weight = CellWeight::Nodal;
     /// A CNEM node carries a multiplier when Σ_i w_i N_K(x_i) > tolerance × the largest such sum.
@@ -132,7 +132,7 @@ void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bri
 /// and `cnem`, 3N). At rest these vanish, while a bridging particle's or zone node's own force does not:
 /// the constraint holds it. Cundall damping takes its magnitude from them (solver/step/step.cpp
 /// damping.cundall): from the models' own forces it acted at rest in the zone as a Coulomb friction of
-/// α |F| that froze a 1 nm lateral drift of the coupled 30 µm box (examples/README.md, the domain study).
+/// α |F| that froze a lateral drift of the coupled box at rest (CHANGELOG.md, the domain study).
 /// Particles outside the bridge get F exactly; kinematic bridging particles and Dirichlet DOFs 0 (neither
 /// moves, and the damping leaves both alone).
 void constrainedForces(const Particles& particles, const CnemModel& cnem, Bridge& bridge,

@@ -71,7 +71,7 @@ struct ConflictScratch {
 thread_local ConflictScratch tls_scratch;
 
 /// Strictly inside the circumsphere of a (positively oriented) cell. The oriented predicate has EPICK's
-/// static filter (side_of_bounded_sphere falls back to interval arithmetic every time: 3× slower here).
+/// static filter (side_of_bounded_sphere falls back to interval arithmetic every time, which is slower).
 bool inConflict(const CnemMesh& m, std::int32_t cell, const Point& q) {
     const std::int32_t* v = m.cell_vertex.data() + 4 * static_cast<std::size_t>(cell);
     return CGAL::side_of_oriented_sphere(pointOf(m, v[0]), pointOf(m, v[1]), pointOf(m, v[2]),

@@ -25,12 +25,12 @@
 // fracture, when Δh_L = z_k − Z_k; with fracture the removed fragments' layer counts as V⁻, as it does above).
 // A surface that slides sideways by u changes the Eulerian Δh by about its slope times u, of either sign: the
 // envelope is made of sphere caps, sloped up to the particle size, so a residual lateral displacement of 1 nm
-// far from the print scatters Δh by several nm and V⁺ collects the positive part (examples/README.md, "What V⁺
+// far from the print scatters Δh by several nm and V⁺ collects the positive part (CHANGELOG.md, "What V⁺
 // measures at 0.1 N"). Δh_L sees only vertical motion. It is a field over the reference positions: areas and
 // L are taken there, which differs from the current ones by the surface's lateral strain (O(u/r) ≲ 1 %).
 // Without the envelope's scatter the print has no rim at 0.1 N: its profile sinks into a shallow elastic tail
-// (0.1 % of D only 5 µm out at 100 000 particles) that the first return measures, so the Lagrangian L is the
-// flank secant's (the corner of the flank), not the first return.
+// that reaches far beyond the print's corner, and the first return would measure the tail, so the Lagrangian L
+// is the flank secant's (the corner of the flank), not the first return.
 #pragma once
 
 #include <vector>

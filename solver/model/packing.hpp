@@ -35,10 +35,9 @@
 //         wall-dominated samples jam lower than the bulk): go on shrinking, in steps of at most 5e-4, down to
 //         target − packing_fraction_tolerance, and stop at the first overlap-free state; the report gives
 //         the φ reached. Slow at that floor for 40 checks, or past max_iterations sweeps: RuntimeFailure.
-//     Measured (d = 0.2): the first overlap-free states of this protocol appear at φ ≈ 0.630–0.635 in the
-//     2 R̄ interior (0.634–0.643 deeper than 6 R̄ from the walls), so the default target 0.63 is just below
-//     this sample's jamming point: it is reached exactly from a few thousand particles up, at the cost of a
-//     slow final approach (tests/verification/test_packing_quality.cpp; report.iterations).
+//     The default target 0.63 lies just below this protocol's jamming point for d = 0.2 (tested in
+//     tests/verification/test_packing_quality.cpp; the measured φ in CHANGELOG.md): it is reached exactly
+//     from a few thousand particles up, at the cost of a slow final approach (report.iterations).
 //  4. Order and bond. Particles are reordered along a Morton curve (mortonOrder), then selectBonds picks the
 //     pairs (below) and analysePacking writes the report.
 //

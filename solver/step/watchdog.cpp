@@ -187,7 +187,7 @@ InstabilityDiagnosis diagnoseInstability(const Model& model, const Effects& effe
             a << "; its bonds have densified, and property evolution stiffens them beyond the initial estimate";
         }
         if (intactBonds(model, p) <= 3 && effects.pressure) {
-            // Hydrostatic runs at 18-30 GPa (examples/densification/README.md): a 3-bond surface particle under
+            // Hydrostatic runs at 18-30 GPa (CHANGELOG.md, densification): a 3-bond surface particle under
             // its hull share of the pressure spins up at any ratio (faster at a smaller one): a mechanism.
             a << "; but it is held by only " << intactBonds(model, p) << " intact bonds under a [[load]]: a "
               << "loosely bonded surface particle that the load can turn; if a smaller ratio only delays this "

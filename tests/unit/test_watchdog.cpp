@@ -99,7 +99,7 @@ TEST(Watchdog, ARunawayParticleIsBlamedOnTheTimeStepWithItsMostStrainedBond) {
 }
 
 // A run-away of a particle held by three bonds under a pressure load (the hydrostatic sphere at 18-22 GPa,
-// examples/densification/README.md) is named as a possible mechanism beside the time step; a particle with
+// CHANGELOG.md, densification) is named as a possible mechanism beside the time step; a particle with
 // six bonds, or three without a load, gets the time step alone.
 TEST(Watchdog, AThreeBondParticleUnderALoadIsNamedAsAPossibleMechanism) {
     Model m = scCube();
