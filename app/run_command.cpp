@@ -99,7 +99,12 @@ CheckpointMeta checkpointMeta(const Loop& l, long step, double time) {
 /// Steps first … ts.steps (or until the stages end, a --stop-after count, a signal or the watchdog).
 LoopEnd timeLoop(Loop& l, long first) {
     const fs::path checkpoint_path = l.out / "state.h5";
-    auto checkpoint = [&](long n) { writeCheckpoint(checkpoint_path.string(), checkpointMeta(l, n, l.ctx.time), runState(l.model, l.effects)); };
+    // The series is flushed first: every row up to a checkpoint is on disk, so a restart after a kill continues
+    // a complete series.
+    auto checkpoint = [&](long n) {
+        l.series.flush();
+        writeCheckpoint(checkpoint_path.string(), checkpointMeta(l, n, l.ctx.time), runState(l.model, l.effects));
+    };
     auto record = [&](long n) { l.series.row(l.recorder.record(n, l.ctx.time)); };
     // The watchdog checks every step, on the measures of the fused final kick (ctx.kinetic). The last good
     // state is a copy of the run's state taken at a recorded step that passed it, at most every 100 steps.
@@ -288,6 +293,10 @@ int runScene(const RunOptions& options) {
         plotIndentation(log, out, verbose);
     }
     printRunEnd(log, scene, summary, out, verbose);
+    if (const std::string bad = firstNonFinite(summary); !bad.empty()) {
+        throw RuntimeFailure("the run's result '" + bad + "' is not a finite number (null in " +
+                             (out / "summary.json").string() + "): the run is not a success");
+    }
     if (!end.stages_complete) {
         const Indenter& ind = *effects.indenter;
         throw RuntimeFailure("time.duration (" + std::to_string(scene.time.duration) + " ns) ran out in stage '" +

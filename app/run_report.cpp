@@ -1,6 +1,7 @@
 #include "app/run_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
 #include <sstream>
 
@@ -23,6 +24,24 @@ double meanCoordination(const Model& model) {
 }
 
 } // namespace
+
+std::string firstNonFinite(const nlohmann::ordered_json& value, const std::string& prefix) {
+    if (value.is_number_float()) {
+        return std::isfinite(value.get<double>()) ? "" : (prefix.empty() ? "(value)" : prefix);
+    }
+    if (value.is_object()) {
+        for (const auto& [key, item] : value.items()) {
+            const std::string found = firstNonFinite(item, prefix.empty() ? key : prefix + "." + key);
+            if (!found.empty()) return found;
+        }
+    } else if (value.is_array()) {
+        for (std::size_t k = 0; k < value.size(); ++k) {
+            const std::string found = firstNonFinite(value[k], prefix + "[" + std::to_string(k) + "]");
+            if (!found.empty()) return found;
+        }
+    }
+    return "";
+}
 
 std::string stateSha256(const Particles& p) {
     Sha256 h;

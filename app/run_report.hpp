@@ -44,6 +44,10 @@ nlohmann::ordered_json runSummary(const Scene& scene, const SampleSource& source
 void printRunEnd(std::ostream& log, const Scene& scene, const nlohmann::ordered_json& summary,
                  const std::filesystem::path& out, bool verbose);
 
+/// The dotted key of the first number in `value` that is not finite ("measurements.V_minus_um3",
+/// "phases.x.share", "list[3]"), or "" when every number is finite: a run never reports NaN as a result.
+std::string firstNonFinite(const nlohmann::ordered_json& value, const std::string& prefix = "");
+
 /// SHA-256 of the final state bytes: positions, orientations, velocities, angular velocities.
 std::string stateSha256(const Particles& particles);
 

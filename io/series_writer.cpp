@@ -2,6 +2,7 @@
 
 #include "solver/errors.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -25,6 +26,7 @@ SeriesWriter::SeriesWriter(const std::string& path, std::vector<std::string> col
         std::fprintf(file_.get(), c == 0 ? "%s" : ",%s", columns_[c].c_str());
     }
     std::fputc('\n', file_.get());
+    flush(); // the header is on disk whatever happens to the process later
 }
 
 SeriesWriter::SeriesWriter(std::string path, std::vector<std::string> columns, std::FILE* file)
@@ -49,10 +51,13 @@ SeriesWriter SeriesWriter::continuing(const std::string& path, std::vector<std::
                              "scene?); move it away to start a new one");
     }
     std::string kept = header + "\n";
+    const auto fields = [](const std::string& text) { return std::count(text.begin(), text.end(), ',') + 1; };
     std::string line;
     while (std::getline(in, line)) {
-        // The first column is the step; rows recorded after the checkpoint are recorded again.
-        if (std::strtod(line.c_str(), nullptr) > static_cast<double>(through_step)) {
+        // The first column is the step; the rows from the checkpoint's step on are recorded again. A line cut short
+        // by a killed process (the last one, without its newline or its columns) is dropped.
+        if (in.eof() || fields(line) != fields(header) ||
+            std::strtod(line.c_str(), nullptr) >= static_cast<double>(through_step)) {
             break;
         }
         kept += line + "\n";

@@ -54,7 +54,7 @@ TEST(CoupledIndentation, ReducedCoupledVickersRunsEveryStageKeepsTheZoneElasticA
     EXPECT_GT(m["max_depth_um"].get<double>(), 0.0);
     // The composed step names the coupled phases.
     const std::string composed = s["composed_step"].get<std::string>();
-    for (const char* phase : {"coupling.kick", "coupling.project", "coupling.drift", "| coupling.cnem_forces",
+    for (const char* phase : {"coupling.kick_drift", "coupling.kick", "| coupling.cnem_forces",
                               "coupling.check_zone"}) {
         EXPECT_NE(composed.find(phase), std::string::npos) << phase << " in " << composed;
     }
