@@ -74,7 +74,7 @@ std::string cnemStateSha256(const CnemModel& m) {
 }
 
 std::string dampingName(const Scene& s) {
-    if (!s.hasEffect("damping") || s.damping.kind == DampingKind::None) {
+    if (!s.hasEffect(Effect::Damping) || s.damping.kind == DampingKind::None) {
         return "none";
     }
     return s.damping.kind == DampingKind::CundallLocal ? "cundall" : "bond-viscous";
@@ -99,14 +99,14 @@ public:
             displacement_[k] = p.position[k] - p.initial_position[k];
         }
         std::vector<FieldView> views;
-        for (const std::string& f : fields_) {
-            if (f == "displacement") views.push_back({"displacement_um", 3, displacement_.data()});
-            if (f == "velocity") views.push_back({"velocity_km_per_s", 3, p.velocity.data()});
-            if (f == "force") views.push_back({"force_mN", 3, p.force.data()});
-            if (f == "angular_velocity") views.push_back({"angular_velocity_rad_per_ns", 3, p.angular_velocity.data()});
-            if (f == "torque") views.push_back({"torque_mN_um", 3, p.torque.data()});
-            if (f == "coordination") views.push_back({"coordination", 1, coordination_.data()});
-            if (f == "densification") {
+        for (const OutputField f : fields_) {
+            if (f == OutputField::Displacement) views.push_back({"displacement_um", 3, displacement_.data()});
+            if (f == OutputField::Velocity) views.push_back({"velocity_km_per_s", 3, p.velocity.data()});
+            if (f == OutputField::Force) views.push_back({"force_mN", 3, p.force.data()});
+            if (f == OutputField::AngularVelocity) views.push_back({"angular_velocity_rad_per_ns", 3, p.angular_velocity.data()});
+            if (f == OutputField::Torque) views.push_back({"torque_mN_um", 3, p.torque.data()});
+            if (f == OutputField::Coordination) views.push_back({"coordination", 1, coordination_.data()});
+            if (f == OutputField::Densification) {
                 // Residual volumetric strain of the bonded neighbourhood (kernels/strain.hpp), the density
                 // change it implies, and the slider's own measure (−3 × mean bond slip) when densifying.
                 volumetric_.assign(p.size(), 0.0);
@@ -124,10 +124,10 @@ public:
                     views.push_back({"slider_volumetric_strain", 1, slider_.data()});
                 }
             }
-            if (f == "tool" && model.indenter) {
+            if (f == OutputField::Tool && model.indenter) {
                 views.push_back({"tool_contact_force_mN", 3, model.indenter->contact_force.data()});
             }
-            if (f == "damage" || f == "stress") appendDamageFields(f, p, damage_, views); // io/damage_fields.hpp
+            if (f == OutputField::Damage || f == OutputField::Stress) appendDamageFields(f, p, damage_, views); // io/damage_fields.hpp
         }
         char name[64];
         std::snprintf(name, sizeof name, "maps/particles_%08ld.vtu", step);
@@ -158,7 +158,7 @@ private:
     PvdCollection pvd_;
     PvdCollection cnem_pvd_;
     CnemMapFields cnem_fields_;
-    std::vector<std::string> fields_;
+    std::vector<OutputField> fields_;
     std::vector<double> coordination_;
     std::vector<double> displacement_;
     std::vector<double> volumetric_, density_change_, slider_;
@@ -203,7 +203,7 @@ int runScene(const RunOptions& options) {
     // ω_max by power iteration on the beam stiffness, capped by the Gershgorin bound (solver/step/frequency.hpp).
     // With densification and property evolution the bonds stiffen as they slip (axially up to ×1.9): the
     // estimate is then made for the stiffest state every bond can reach, so Δt never becomes optimistic.
-    const bool stiffening = scene.hasEffect("densification") && scene.densification.property_evolution;
+    const bool stiffening = scene.hasEffect(Effect::Densification) && scene.densification.property_evolution;
     const FrequencyEstimate frequency = highestFrequencyFor(scene, model);
     CriticalTimeStep critical;
     critical.omega = frequency.omega;
@@ -234,8 +234,8 @@ int runScene(const RunOptions& options) {
 
     if (verbose) {
         log << "vitrum " << kVersion << ": scene '" << scene.name << "' (" << scene.source_path << ")\n"
-            << "  sample     " << (scene.sample.lattice == "random" ? "dense random packing" : scene.sample.lattice + " lattice")
-            << " in a " << scene.sample.shape << " (" << source.origin << "): "
+            << "  sample     " << (scene.sample.lattice == Lattice::Random ? "dense random packing" : std::string(nameOf(scene.sample.lattice)) + " lattice")
+            << " in a " << nameOf(scene.sample.shape) << " (" << source.origin << "): "
             << model.particles.size() << " particles, " << model.bonds.size() << " bonds (mean coordination "
             << std::setprecision(4) << mean_coordination << "), mean R = " << mean_radius << " um\n"
             << "  material   E_mu = " << scene.material.beam_young << " GPa, nu_mu = " << scene.material.beam_poisson
@@ -250,13 +250,13 @@ int runScene(const RunOptions& options) {
         if (dampingName(scene) != "none") {
             log << " (coefficient " << scene.damping.coefficient << ")";
         }
-        if (scene.hasEffect("fracture")) {
+        if (scene.hasEffect(Effect::Fracture)) {
             log << "\n  fracture   hydrostatic release at " << scene.fracture.hydrostatic_strength * 1e3
                 << " MPa (eq 10 stress, Omega_i = sphere / " << particleVolume(scene).packing_fraction
-                << (scene.fracture.averaging == "neighbours" ? ", averaged with the bonded neighbours" : "")
+                << (scene.fracture.averaging == FractureAveraging::Neighbours ? ", averaged with the bonded neighbours" : "")
                 << "), checked every " << scene.fracture.check_every << " step(s)";
         }
-        if (scene.hasEffect("contact")) {
+        if (scene.hasEffect(Effect::Contact)) {
             const LinearContact law = contactLaw(scene, model);
             log << "\n  contact    k_n = " << law.normal_stiffness * 1e3 << " N/m, e = " << scene.contact.restitution
                 << ", k_t/k_n = " << scene.contact.tangential_ratio << ", mu = " << law.friction << ", skin "
@@ -269,11 +269,11 @@ int runScene(const RunOptions& options) {
             log << "\n  coupling   CNEM box " << cp.box << " um minus the ball r < " << c.cavity_radius << " um: "
                 << c.cnem.nodes() << " nodes (h = " << c.spacing << " um), " << c.cnem.mesh.tetCount()
                 << " tets, beta = " << cp.stabilisation << "; bottom clamped (" << c.clamped_nodes << " nodes), lateral faces "
-                << cp.lateral << "\n             continuum E = " << c.cnem.material.young << " GPa, nu = "
+                << nameOf(cp.lateral) << "\n             continuum E = " << c.cnem.material.young << " GPa, nu = "
                 << c.cnem.material.poisson << " (" << cp.material_source << "), rho = " << c.cnem.material.density * 1e3
                 << " kg/m^3 (" << (cp.density > 0.0 ? "explicit" : "measured on the packing: sum m_i / V")
                 << ")\n             bridging zone " << c.cavity_radius << " <= r <= " << model.sample.radius << " um ("
-                << cp.profile << " weights): " << c.report.bridging_particles << " bridging particles, "
+                << nameOf(cp.profile) << " weights): " << c.report.bridging_particles << " bridging particles, "
                 << c.report.bonds_in_zone << " bonds in the zone (" << c.report.kinked_bonds
                 << " cut off their midpoint), " << c.report.multipliers << " multipliers; built in "
                 << c.build_seconds << " s\n             omega: weighted DEM " << coupled_frequency->dem
@@ -282,11 +282,11 @@ int runScene(const RunOptions& options) {
         }
         log << "\n  effects    ";
         for (std::size_t k = 0; k < scene.effects.size(); ++k) {
-            log << (k ? ", " : "") << scene.effects[k];
+            log << (k ? ", " : "") << nameOf(scene.effects[k]);
         }
         if (model.indenter) {
             const Indenter& ind = *model.indenter;
-            log << "\n  indenter   " << scene.indenter.kind << " tool, contact k_n = " << ind.law.stiffness * 1e3
+            log << "\n  indenter   " << nameOf(scene.indenter.kind) << " tool, contact k_n = " << ind.law.stiffness * 1e3
                 << " N/m, damping ratio " << ind.law.damping_ratio << ", friction " << ind.law.friction
                 << "; tip starts at z = " << ind.tip.z() << " um, free surface at z = " << ind.surface_level
                 << " um\n  stages     ";
@@ -341,7 +341,7 @@ int runScene(const RunOptions& options) {
     if (model.indenter) {
         columns.insert(columns.end(), {"stage", "tool_depth_um", "tool_force_N", "tool_contacts"});
     }
-    const bool fracture = scene.hasEffect("fracture");
+    const bool fracture = scene.hasEffect(Effect::Fracture);
     if (fracture) {
         columns.insert(columns.end(), {"broken_bonds", "released_particles"});
     }
@@ -636,7 +636,7 @@ int runScene(const RunOptions& options) {
         // Surface layer (< 2 R̄ below the initial hull) against interior: is the loading a surface effect?
         measurements["interior_depth_um"] = h.interior_depth;
         measurements["interior_residual_volume_change"] = h.interior_residual_volume_change;
-        if (scene.hasEffect("densification")) {
+        if (scene.hasEffect(Effect::Densification)) {
             measurements["densified_bond_fraction"] = h.densified_bond_fraction;
             measurements["saturated_bond_fraction"] = h.saturated_bond_fraction;
             measurements["interior_densified_bond_fraction"] = h.interior_densified_bond_fraction;
@@ -670,8 +670,8 @@ int runScene(const RunOptions& options) {
             {"box_um", scene.coupling.box},
             {"zone_inner_um", c.cavity_radius},
             {"zone_outer_um", model.sample.radius},
-            {"profile", scene.coupling.profile},
-            {"lateral_faces", scene.coupling.lateral},
+            {"profile", nameOf(scene.coupling.profile)},
+            {"lateral_faces", nameOf(scene.coupling.lateral)},
             {"continuum_young_modulus_GPa", c.cnem.material.young},
             {"continuum_poisson_ratio", c.cnem.material.poisson},
             {"continuum_density_kg_per_m3", c.cnem.material.density * 1e3},
@@ -692,7 +692,7 @@ int runScene(const RunOptions& options) {
             {"zone_broken_bonds", z.broken_bonds},
             {"zone_densified_bonds", z.densified_bonds},
             {"zone_released_particles", z.released_particles},
-            {"zone_check", scene.coupling.zone_check},
+            {"zone_check", nameOf(scene.coupling.zone_check)},
             {"zone_tolerance", scene.coupling.zone_tolerance},
             {"zone_max_slip", z.max_slip},
             {"zone_min_densified_alpha_d", z.min_densified_weight},
@@ -707,7 +707,7 @@ int runScene(const RunOptions& options) {
     summary["vitrum_version"] = kVersion;
     summary["scene"] = scene.name;
     summary["scene_file"] = scene.source_path;
-    summary["effects"] = scene.effects;
+    summary["effects"] = namesOf(scene.effects);
     summary["composed_step"] = step.describe();
     summary["particles"] = model.particles.size();
     summary["bonds"] = model.bonds.size();

@@ -57,7 +57,7 @@ std::shared_ptr<CoupledContinuum> buildCoupledContinuum(const Scene& scene, cons
         throw InputError(scene.source_path + ": [coupling]: the CNEM box has no node on its bottom face");
     fixCnemNodes(c->cnem, bottom, {true, true, true});
     c->clamped_nodes = bottom.size();
-    if (p.lateral == "roller") {
+    if (p.lateral == LateralFaces::Roller) {
         fixCnemNodes(c->cnem, xfaces, {true, false, false});
         fixCnemNodes(c->cnem, yfaces, {false, true, false});
         c->roller_nodes = xfaces.size() + yfaces.size();
@@ -65,7 +65,8 @@ std::shared_ptr<CoupledContinuum> buildCoupledContinuum(const Scene& scene, cons
 
     BridgeZone zone;
     zone.shape = BridgeZone::Shape::Radial;
-    zone.profile = p.profile == "cubic" ? BridgeZone::Profile::Cubic : BridgeZone::Profile::Linear;
+    zone.profile =
+        p.profile == CouplingProfile::Cubic ? BridgeZone::Profile::Cubic : BridgeZone::Profile::Linear;
     zone.origin = Vec3::Zero();
     zone.inner = c->cavity_radius;
     zone.outer = R;

@@ -40,24 +40,24 @@ LinearContact contactLaw(const Scene& scene, const Model& model) {
 
 ParticleVolume particleVolume(const Scene& scene) {
     const FractureParams& f = scene.fracture;
-    if (f.volume == "sphere") {
+    if (f.volume == FractureVolume::Sphere) {
         return {1.0};
     }
     if (f.packing_fraction > 0.0) {
         return {f.packing_fraction};
     }
-    const std::string& lattice = scene.sample.lattice;
-    if (lattice == "sc") {
+    const Lattice lattice = scene.sample.lattice;
+    if (lattice == Lattice::Sc) {
         return {std::numbers::pi / 6.0};
     }
-    if (lattice == "fcc") {
+    if (lattice == Lattice::Fcc) {
         return {std::numbers::pi / (3.0 * std::numbers::sqrt2)};
     }
     return {scene.sample.packing_fraction};
 }
 
 double contactOmegaSquared(const Scene& scene, const Model& model) {
-    if (!scene.hasEffect("contact") || model.particles.size() == 0) {
+    if (!scene.hasEffect(Effect::Contact) || model.particles.size() == 0) {
         return 0.0;
     }
     const Particles& p = model.particles;
@@ -123,7 +123,7 @@ double contactOmegaSquared(const Scene& scene, const Model& model) {
 }
 
 void addContactPhases(Step& step, const Scene& scene, Model& model) {
-    if (!scene.hasEffect("contact")) {
+    if (!scene.hasEffect(Effect::Contact)) {
         return;
     }
     double mean_radius = 0.0;
@@ -167,7 +167,7 @@ void computeStress(const Scene& scene, Model& model) {
     model.particles.enableFracture();
     toolPointForces(model, model.point_forces);
     std::vector<double> scratch;
-    if (scene.fracture.averaging == "neighbours") {
+    if (scene.fracture.averaging == FractureAveraging::Neighbours) {
         scratch.assign(model.particles.stress.size(), 0.0);
     }
     stressOf(model, particleVolume(scene), scratch.empty() ? nullptr : &scratch);
@@ -191,7 +191,7 @@ void toolPointForces(const Model& m, PointForces& out) {
 }
 
 void addFracturePhases(Step& step, const Scene& scene, Model& model) {
-    if (!scene.hasEffect("fracture")) {
+    if (!scene.hasEffect(Effect::Fracture)) {
         return;
     }
     model.particles.enableFracture();
@@ -200,7 +200,7 @@ void addFracturePhases(Step& step, const Scene& scene, Model& model) {
     const ParticleVolume volume = particleVolume(scene);
     // With averaging, eq (10) goes to a scratch array first (allocated only then).
     std::shared_ptr<std::vector<double>> scratch;
-    if (scene.fracture.averaging == "neighbours") {
+    if (scene.fracture.averaging == FractureAveraging::Neighbours) {
         scratch = std::make_shared<std::vector<double>>(model.particles.stress.size(), 0.0);
     }
     // The step index is the time over Δt (the driver sets time = n Δt), so a restart checks on the same steps.

@@ -61,10 +61,10 @@ void Indenter::restore(const std::vector<double>& v) {
 Indenter makeIndenter(const Scene& scene, const Model& model) {
     const IndenterParams& p = scene.indenter;
     Indenter ind;
-    if (p.kind == "vickers") {
+    if (p.kind == IndenterKind::Vickers) {
         ind.tool.kind = ToolKind::Vickers;
         ind.tool.half_angle = 0.5 * p.face_angle;
-    } else if (p.kind == "cone") {
+    } else if (p.kind == IndenterKind::Cone) {
         ind.tool.kind = ToolKind::Cone;
         ind.tool.half_angle = p.cone_half_angle;
     } else {

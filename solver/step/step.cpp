@@ -93,7 +93,7 @@ void addCoupledKick(Step& step, bool measure) {
 
 Step composeStep(const Scene& scene, Model& model) {
     Step step;
-    const bool coupled = scene.hasEffect("coupling");
+    const bool coupled = scene.hasEffect(Effect::Coupling);
     if (coupled) {
         model.coupling = buildCoupledContinuum(scene, model);
         addCoupledKick(step, false);
@@ -127,7 +127,7 @@ Step composeStep(const Scene& scene, Model& model) {
         });
     }
 
-    if (scene.hasEffect("indenter")) {
+    if (scene.hasEffect(Effect::Indenter)) {
         // The tool moves like the particles drift: at the start of the step, on the force of the last one. In
         // the relax stage the kinetic energy is checked every 50 steps (counted from step 0, so a restart
         // checks on the same steps).
@@ -148,7 +148,7 @@ Step composeStep(const Scene& scene, Model& model) {
         });
     }
 
-    const bool damping = scene.hasEffect("damping");
+    const bool damping = scene.hasEffect(Effect::Damping);
     // The bond-load phase of the effects, added below (alone, or beside the CNEM task when coupled).
     std::string bond_label;
     std::function<void(StepContext&)> bond_loads;
@@ -156,7 +156,7 @@ Step composeStep(const Scene& scene, Model& model) {
         bond_label = std::move(label);
         bond_loads = std::move(run);
     };
-    if (scene.hasEffect("densification")) {
+    if (scene.hasEffect(Effect::Densification)) {
         // The slider acts in the beam's own pass (one kinematics per bond); its per-bond state is sized here,
         // only for this effect (a restart's checkpoint brings it back filled).
         model.bonds.enableDensification();
@@ -213,7 +213,7 @@ Step composeStep(const Scene& scene, Model& model) {
     // Coupled with external loads on the DEM (tool, pressure): the bridging particles' loads so far are the
     // DEM's own, weighted (bonds and unbonded contacts by α_d at their midpoint); what the load phases add to
     // them is then split between the two models.
-    const bool split_loads = coupled && (scene.hasEffect("indenter") || !model.loads.empty());
+    const bool split_loads = coupled && (scene.hasEffect(Effect::Indenter) || !model.loads.empty());
     if (split_loads) {
         step.add("coupling.internal_loads", true,
                  [](StepContext& c) { rememberInternalLoads(c.model.particles, c.model.coupling->bridge); });
@@ -263,11 +263,12 @@ Step composeStep(const Scene& scene, Model& model) {
     }
     if (coupled) {
         addCoupledKick(step, true);
-        if (scene.hasEffect("densification") || scene.hasEffect("fracture")) {
+        if (scene.hasEffect(Effect::Densification) || scene.hasEffect(Effect::Fracture)) {
             // APP-2: the elastic CNEM cannot follow inelasticity in the zone; checked every 50 steps (the
             // slider's slip and broken bonds are permanent, so nothing is missed, only seen ≤ 49 steps late).
             ZoneCheck check;
-            check.mode = scene.coupling.zone_check == "weighted" ? ZoneCheck::Mode::Weighted : ZoneCheck::Mode::Strict;
+            check.mode = scene.coupling.zone_check == ZoneCheckMode::Weighted ? ZoneCheck::Mode::Weighted
+                                                                              : ZoneCheck::Mode::Strict;
             check.tolerance = scene.coupling.zone_tolerance;
             step.add("coupling.check_zone", false, [check](StepContext& c) {
                 if (std::llround(c.time / c.dt) % 50 == 0) {
