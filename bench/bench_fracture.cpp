@@ -28,11 +28,11 @@ struct FractureModel {
 
 std::unique_ptr<FractureModel> makeFractureModel(long n) {
     auto fm = std::make_unique<FractureModel>();
-    fm->scene.sample.lattice = Lattice::Fcc;
-    fm->scene.sample.shape = SampleShape::Box;
+    fm->scene.sample.lattice = vitrum::Lattice::Fcc;
+    fm->scene.sample.shape = vitrum::SampleShape::Box;
     fm->scene.sample.size = Vec3(10, 10, 10);
     fm->scene.sample.particles = n;
-    fm->scene.effects = {Effect::Elasticity, Effect::Fracture, Effect::Contact};
+    fm->scene.effects = {vitrum::Effect::Elasticity, vitrum::Effect::Fracture, vitrum::Effect::Contact};
     vitrum::Model& m = fm->model;
     m = vitrum::buildModel(fm->scene, 1.0);
     std::mt19937_64 rng(0xf4ac + static_cast<std::uint64_t>(n));

@@ -336,7 +336,7 @@ void BM_FullStepDensified(benchmark::State& state) {
     BenchModel& bm = modelFor(state.range(0));
     enableDensification(bm);
     vitrum::Scene scene = bm.scene;
-    scene.effects = {Effect::Elasticity, Effect::Densification};
+    scene.effects = {vitrum::Effect::Elasticity, vitrum::Effect::Densification};
     vitrum::Step step = vitrum::composeStep(scene, bm.model);
     timeSteps(state, step, bm);
     const double nb = static_cast<double>(bm.model.bonds.size());
