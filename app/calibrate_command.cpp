@@ -83,7 +83,7 @@ int calibrateElastic(const CalibrateOptions& o) {
     if (!base.measure.uniaxial) {
         throw InputError(o.scene + ": the calibration needs a tensile test scene with [measure] kind = \"uniaxial\"");
     }
-    if (base.sample.lattice != "random") {
+    if (base.sample.lattice != Lattice::Random) {
         throw InputError(o.scene + ": the calibration needs a dense random packing ([sample] lattice = \"random\")");
     }
     fs::create_directories(fs::path(o.out_dir) / "packings");
@@ -305,16 +305,17 @@ std::string fixed(double x, int digits) {
 int calibrateDensification(const DensificationCalibrateOptions& o) {
     std::ostream& log = std::cout;
     const Scene base = readScene(o.scene, o.overrides);
-    if (!base.hasEffect("densification")) {
+    if (!base.hasEffect(Effect::Densification)) {
         throw InputError(o.scene + ": the densification calibration needs a scene with effect \"densification\"");
     }
     if (base.loads.empty()) {
         throw InputError(o.scene + ": the densification calibration needs a hydrostatic sphere scene with a "
                                    "[[load]] kind = \"pressure\" (examples/hydrostatic-sphere.toml)");
     }
-    if (base.sample.shape != "sphere") {
-        throw InputError(o.scene + ": the densification calibration needs [sample] shape = \"sphere\" (got \"" +
-                         base.sample.shape + "\")");
+    if (base.sample.shape != SampleShape::Sphere) {
+        throw InputError(o.scene +
+                         ": the densification calibration needs [sample] shape = \"sphere\" (got \"" +
+                         std::string(nameOf(base.sample.shape)) + "\")");
     }
     if (base.material.calibration.empty()) {
         throw InputError(o.scene + ": the densification calibration writes into the elastic calibration file: "

@@ -24,7 +24,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 /// Radius of the sample's free top face (hemisphere, cylinder, sphere: its radius; box: half the smaller side).
 double sampleRadius(const SampleParams& s) {
-    return s.shape == "box" ? 0.5 * std::min(s.size.x(), s.size.y()) : s.radius;
+    return s.shape == SampleShape::Box ? 0.5 * std::min(s.size.x(), s.size.y()) : s.radius;
 }
 
 /// Paper Table 4 (Keryvin-type rows): V⁻, V⁺, V_d, D, L for the DEM row and the experiments.

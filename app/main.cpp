@@ -10,6 +10,8 @@
 #include "app/pack_command.hpp"
 #include "app/run_command.hpp"
 #include "io/checkpoint.hpp"
+#include "io/atomic_file.hpp"
+#include "io/scene_reader.hpp"
 #include "solver/errors.hpp"
 
 namespace {
@@ -93,11 +95,13 @@ int main(int argc, char** argv) {
 
     vitrum::PackOptions pack;
     std::vector<double> pack_size;
+    std::string pack_shape;
     CLI::App* pack_cmd = app.add_subcommand(
         "pack", "Build a dense random packing (compacted inside the shape, bonded to a target coordination), "
                 "save it as HDF5 for scenes ([sample] file) and print its report. Lengths in um.");
-    pack_cmd->add_option("shape", pack.params.shape, "box | cylinder | sphere | hemisphere")
-        ->required()->check(CLI::IsMember({"box", "cylinder", "sphere", "hemisphere"}));
+    pack_cmd->add_option("shape", pack_shape, "box | cylinder | sphere | hemisphere")
+        ->required()
+        ->check(CLI::IsMember({"box", "cylinder", "sphere", "hemisphere"}));
     pack_cmd->add_option("--particles", pack.params.particles, "Number of spheres")->required()
         ->check(kAtLeastOne);
     pack_cmd->add_option("--radius", pack.params.radius, "Shape radius (um): cylinder, sphere, hemisphere")
@@ -114,6 +118,13 @@ int main(int argc, char** argv) {
     pack_cmd->add_option("--out", pack.output, "Packing file to write (.h5)")->required();
     pack_cmd->add_option("--json", pack.json, "Also write the report as JSON");
     pack_cmd->add_option("--threads", pack.threads, "OpenMP threads")->check(kAtLeastOne);
+
+    std::string reference_out;
+    CLI::App* reference_cmd = app.add_subcommand(
+        "scene-reference",
+        "Print the scene reference (every key of every section: unit, values, default, meaning) "
+        "as markdown, generated from the scene reader's key tables (docs/scene-reference.md)");
+    reference_cmd->add_option("--out", reference_out, "Write it to this file instead of the standard output");
 
     vitrum::CalibrateOptions calibrate;
     CLI::App* calibrate_cmd = app.add_subcommand("calibrate", "Micro-macro calibration of the beam network");
@@ -214,7 +225,16 @@ int main(int argc, char** argv) {
         if (measure_cmd->parsed()) {
             return vitrum::measureRun(measure);
         }
+        if (reference_cmd->parsed()) {
+            if (reference_out.empty()) {
+                std::cout << vitrum::sceneReferenceMarkdown();
+            } else {
+                vitrum::writeFileAtomically(reference_out, vitrum::sceneReferenceMarkdown());
+            }
+            return 0;
+        }
         if (pack_cmd->parsed()) {
+            pack.params.shape = *vitrum::enumFromName<vitrum::SampleShape>(pack_shape); // checked by IsMember
             if (pack_size.size() == 3) {
                 pack.params.size = vitrum::Vec3(pack_size[0], pack_size[1], pack_size[2]);
             }

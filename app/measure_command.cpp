@@ -57,7 +57,7 @@ int measureRun(const MeasureOptions& options) {
     }
     const std::string resolved = readFile(dir / "resolved_scene.toml", "the resolved scene");
     const Scene scene = parseScene(resolved, summary["scene_file"].get<std::string>());
-    if (!scene.hasEffect("indenter")) {
+    if (!scene.hasEffect(Effect::Indenter)) {
         throw InputError((dir / "resolved_scene.toml").string() +
                          ": key 'effects.list': expected effect \"indenter\" (only indentation runs are measured)");
     }

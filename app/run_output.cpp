@@ -125,11 +125,11 @@ const DerivedField kDerivedFields[] = {
      }},
     {"damage",
      [](Model& m, Effects&, Buffers& b, std::vector<FieldView>& views) {
-         appendDamageFields("damage", m.particles, b.damage, views);
+         appendDamageFields(OutputField::Damage, m.particles, b.damage, views);
      }},
     {"stress",
      [](Model& m, Effects&, Buffers& b, std::vector<FieldView>& views) {
-         appendDamageFields("stress", m.particles, b.damage, views);
+         appendDamageFields(OutputField::Stress, m.particles, b.damage, views);
      }},
     // The radius is every map's glyph size already (writeParticlesVtu).
     {"radius", [](Model&, Effects&, Buffers&, std::vector<FieldView>&) {}},
@@ -148,7 +148,8 @@ MapWriter::MapWriter(const fs::path& out, const Scene& scene, const Model&, doub
 void MapWriter::write(Model& model, Effects& effects, long step, double time) {
     Particles& p = model.particles;
     std::vector<FieldView> views;
-    for (const std::string& name : fields_) {
+    for (const OutputField f : fields_) {
+        const std::string_view name = nameOf(f);
         bool found = false;
         for (const DerivedField& d : kDerivedFields) {
             if (!found && name == d.name) {

@@ -52,7 +52,7 @@ private:
     std::filesystem::path out_;
     PvdCollection pvd_;
     PvdCollection cnem_pvd_;
-    std::vector<std::string> fields_;
+    std::vector<OutputField> fields_;
     Buffers buffers_;
     CnemMapFields cnem_fields_;
 };

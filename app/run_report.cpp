@@ -55,8 +55,9 @@ void printRunHeader(std::ostream& log, const Scene& scene, const SampleSource& s
                     const Effects& effects, const TimeStep& ts, const Step& step, const fs::path& out) {
     log << "vitrum " << kVersion << ": scene '" << scene.name << "' (" << scene.source_path << ")\n"
         << "  sample     "
-        << (scene.sample.lattice == "random" ? "dense random packing" : scene.sample.lattice + " lattice") << " in a "
-        << scene.sample.shape << " (" << source.origin << "): " << model.particles.size() << " particles, "
+        << (scene.sample.lattice == Lattice::Random ? "dense random packing"
+                                                    : std::string(nameOf(scene.sample.lattice)) + " lattice")
+        << " in a " << nameOf(scene.sample.shape) << " (" << source.origin << "): " << model.particles.size() << " particles, "
         << model.bonds.size() << " bonds (mean coordination " << std::setprecision(4) << meanCoordination(model)
         << "), mean R = " << meanRadius(model.particles) << " um\n"
         << "  material   E_mu = " << scene.material.beam_young << " GPa, nu_mu = " << scene.material.beam_poisson
@@ -77,7 +78,7 @@ void printRunHeader(std::ostream& log, const Scene& scene, const SampleSource& s
     });
     log << "  effects    ";
     for (std::size_t k = 0; k < scene.effects.size(); ++k) {
-        log << (k ? ", " : "") << scene.effects[k];
+        log << (k ? ", " : "") << nameOf(scene.effects[k]);
     }
     log << "\n  step       " << step.describe() << "\n  threads    " << threadCount() << "\n  output     "
         << out.string() << "\n";
@@ -91,7 +92,7 @@ nlohmann::ordered_json runSummary(const Scene& scene, const SampleSource& source
     summary["vitrum_version"] = kVersion;
     summary["scene"] = scene.name;
     summary["scene_file"] = scene.source_path;
-    summary["effects"] = scene.effects;
+    summary["effects"] = namesOf(scene.effects);
     summary["composed_step"] = step.describe();
     summary["particles"] = model.particles.size();
     summary["bonds"] = model.bonds.size();

@@ -30,8 +30,8 @@ Coupled& cachedCoupled(long particles, long nodes) {
     if (!slot) {
         slot = std::make_unique<Coupled>();
         vitrum::Scene s;
-        s.sample.lattice = "fcc";
-        s.sample.shape = "hemisphere";
+        s.sample.lattice = vitrum::Lattice::Fcc;
+        s.sample.shape = vitrum::SampleShape::Hemisphere;
         s.sample.radius = 12.0;
         s.sample.particles = particles;
         s.source_path = "<bench>";

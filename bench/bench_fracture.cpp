@@ -30,11 +30,11 @@ struct FractureModel {
 
 std::unique_ptr<FractureModel> makeFractureModel(long n) {
     auto fm = std::make_unique<FractureModel>();
-    fm->scene.sample.lattice = "fcc";
-    fm->scene.sample.shape = "box";
+    fm->scene.sample.lattice = vitrum::Lattice::Fcc;
+    fm->scene.sample.shape = vitrum::SampleShape::Box;
     fm->scene.sample.size = Vec3(10, 10, 10);
     fm->scene.sample.particles = n;
-    fm->scene.effects = {"elasticity", "fracture", "contact"};
+    fm->scene.effects = {vitrum::Effect::Elasticity, vitrum::Effect::Fracture, vitrum::Effect::Contact};
     vitrum::Model& m = fm->model;
     m = vitrum::buildModel(fm->scene, 1.0);
     std::mt19937_64 rng(0xf4ac + static_cast<std::uint64_t>(n));

@@ -341,7 +341,7 @@ void BM_FullStepDensified(benchmark::State& state) {
     BenchModel& bm = modelFor(state.range(0));
     enableDensification(bm);
     vitrum::Scene scene = bm.scene;
-    scene.effects = {"elasticity", "densification"};
+    scene.effects = {vitrum::Effect::Elasticity, vitrum::Effect::Densification};
     vitrum::Effects bm_model_fx = buildEffects(scene, bm.model);
     vitrum::Step step = vitrum::composeStep(bm.model, bm_model_fx);
     timeSteps(state, step, bm, bm_model_fx);

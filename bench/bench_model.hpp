@@ -34,8 +34,8 @@ struct BenchModel {
 inline std::unique_ptr<BenchModel> makeModel(long n, bool place = true) {
     auto bm = std::make_unique<BenchModel>();
     bm->scene.name = "bench";
-    bm->scene.sample.lattice = "fcc";
-    bm->scene.sample.shape = "box";
+    bm->scene.sample.lattice = vitrum::Lattice::Fcc;
+    bm->scene.sample.shape = vitrum::SampleShape::Box;
     bm->scene.sample.size = Vec3(10, 10, 10);
     bm->scene.sample.particles = n;
     bm->model = vitrum::buildModel(bm->scene, 1.0);

@@ -21,7 +21,7 @@ namespace {
 
 vitrum::PackingParams hemisphere(long particles) {
     vitrum::PackingParams p;
-    p.shape = "hemisphere";
+    p.shape = vitrum::SampleShape::Hemisphere;
     p.radius = 12.0;
     p.particles = particles;
     p.seed = 1;

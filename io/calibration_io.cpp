@@ -44,9 +44,11 @@ std::string calibrationToml(const CalibrationFile& f) {
         << "\nradius_ratio_min = " << num(f.fit.radius_ratio_min) << "\nradius_ratio_max = "
         << num(f.fit.radius_ratio_max) << "\n\n";
     const SampleParams& p = f.packing;
-    out << "[packing]\nshape = \"" << p.shape << "\"\nradius = " << num(p.radius) << "\nheight = " << num(p.height)
-        << "\nparticles = " << p.particles << "\nradius_dispersion = " << num(p.radius_dispersion)
-        << "\npacking_fraction = " << num(p.packing_fraction) << "\ncoordination = " << num(p.coordination) << "\n";
+    out << "[packing]\nshape = \"" << nameOf(p.shape) << "\"\nradius = " << num(p.radius)
+        << "\nheight = " << num(p.height) << "\nparticles = " << p.particles
+        << "\nradius_dispersion = " << num(p.radius_dispersion)
+        << "\npacking_fraction = " << num(p.packing_fraction) << "\ncoordination = " << num(p.coordination)
+        << "\n";
     for (const CalibrationRecord& r : f.records) {
         out << "\n[[test]]\nseed = " << r.seed << "\nbeam_radius_ratio = " << num(r.sample.radius_ratio)
             << "\nbeam_young_modulus = " << num(r.sample.beam_young) << "\nyoung_modulus = " << num(r.sample.young)

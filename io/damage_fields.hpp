@@ -9,6 +9,7 @@
 
 #include "io/fields.hpp"
 #include "solver/model/particles.hpp"
+#include "solver/scene.hpp"
 
 namespace vitrum {
 
@@ -17,9 +18,9 @@ struct DamageFieldBuffers {
     std::vector<double> released, broken_bonds, release_step, hydrostatic;
 };
 
-/// Appends the views of `field` ("damage" or "stress") of `particles` to `views` (nothing without the fracture
+/// Appends the views of `field` (damage or stress) of `particles` to `views` (nothing without the fracture
 /// state).
-void appendDamageFields(const std::string& field, const Particles& particles, DamageFieldBuffers& buffers,
+void appendDamageFields(OutputField field, const Particles& particles, DamageFieldBuffers& buffers,
                         std::vector<FieldView>& views);
 
 } // namespace vitrum

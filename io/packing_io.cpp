@@ -205,7 +205,7 @@ void writeFile(const std::string& file_path, const std::string& shown_path, cons
         const PackingParams& p = k.params;
         const H5Handle g = w.check(H5Gcreate2(root, "params", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
                                    H5Gclose, "create group params");
-        w.put(g.get(), "shape", p.shape);
+        w.put(g.get(), "shape", std::string(nameOf(p.shape)));
         w.put(g.get(), "size", std::vector<double>{p.size.x(), p.size.y(), p.size.z()});
         w.put(g.get(), "radius", p.radius);
         w.put(g.get(), "height", p.height);
@@ -466,7 +466,13 @@ Packing readFile(const std::string& path) {
         const hid_t id = g.get();
         const std::string w = "params/";
         PackingParams& p = k.params;
-        p.shape = r.text(id, w, "shape");
+        const std::string shape = r.text(id, w, "shape");
+        const std::optional<SampleShape> known = enumFromName<SampleShape>(shape);
+        if (!known) {
+            r.fail("attribute 'params/shape' is \"" + shape +
+                   "\"; expected box, cylinder, sphere or hemisphere");
+        }
+        p.shape = *known;
         const std::vector<double> size = r.numbers<double>(id, w, "size");
         if (size.size() != 3) {
             r.fail("attribute 'params/size' has " + std::to_string(size.size()) + " values; expected 3");
@@ -579,7 +585,7 @@ Packing loadPacking(const std::string& path) {
 
 nlohmann::ordered_json packingParamsJson(const PackingParams& p) {
     nlohmann::ordered_json j;
-    j["shape"] = p.shape;
+    j["shape"] = std::string(nameOf(p.shape));
     j["size_um"] = {p.size.x(), p.size.y(), p.size.z()};
     j["radius_um"] = p.radius;
     j["height_um"] = p.height;

@@ -25,10 +25,11 @@ std::string sampleCachePath(const Scene& scene) {
 SampleSource loadOrBuildSample(const Scene& scene) {
     checkSampleMemory(scene);
     const std::string path = sampleCachePath(scene);
-    if (scene.sample.lattice != "random") {
+    if (scene.sample.lattice != Lattice::Random) {
         if (!path.empty()) {
-            throw InputError(scene.source_path + ": key 'sample.file': a packing cache needs lattice = \"random\" "
-                             "(a " + scene.sample.lattice + " lattice is rebuilt exactly in no time)");
+            throw InputError(
+                scene.source_path + ": key 'sample.file': a packing cache needs lattice = \"random\" (a " +
+                std::string(nameOf(scene.sample.lattice)) + " lattice is rebuilt exactly in no time)");
         }
         return {buildSample(scene), "lattice", std::nullopt};
     }

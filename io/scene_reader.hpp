@@ -1,5 +1,6 @@
-// Scene TOML → the typed, validated Scene (STYLE.md rule 7), and back. Every error is an InputError that
-// names the file, line and column, the dotted key, and what was expected against what was found, e.g.
+// Scene TOML → the typed, validated Scene (STYLE.md rule 7), and back; implemented in io/scene/ (one key
+// table per section: io/scene/keys.hpp). Every error is an InputError that names the file, line and column,
+// the dotted key, and what was expected against what was found, e.g.
 //   scenes/q.toml:12:14: key 'sample.particles': expected an integer >= 2, got -5
 // Numbers are converted from the scene's [units] into vitrum's internal units (solver/scene.hpp).
 #pragma once
@@ -23,7 +24,13 @@ Scene parseScene(std::string_view toml_text, const std::string& source_name,
                  const std::vector<std::string>& overrides = {});
 
 /// The fully resolved scene (every default filled in) as TOML in the scene's declared units, with doubles
-/// written to round-trip exactly: parseScene(resolvedSceneToml(s), s.source_path) == s.
+/// written to round-trip exactly: parseScene(resolvedSceneToml(s), s.source_path) == s, but for where the
+/// values came from (material.calibration, coupling.material_source), which the resolved scene replaces by
+/// the values themselves.
 std::string resolvedSceneToml(const Scene& scene);
+
+/// docs/scene-reference.md: every key of every section with its unit, values, default and meaning, generated
+/// from the key tables the reader uses (vitrum scene-reference).
+std::string sceneReferenceMarkdown();
 
 } // namespace vitrum

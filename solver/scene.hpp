@@ -3,13 +3,136 @@
 // resolved scene is written back next to the results (io/scene_reader: resolvedSceneToml).
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "kernels/views.hpp"
 
 namespace vitrum {
+
+// --- Closed choices -------------------------------------------------------------------------------------
+// Each choice a scene makes among fixed names is an enum; its names, as the scene file spells them, are
+// listed once, in EnumNames<E> below, in the enum's order. The scene reader accepts exactly these, the
+// resolved scene and the logs write them (nameOf), and the solver compares enums.
+
+template <class E>
+struct EnumNames; // specialised for each choice: static constexpr std::array<std::string_view, N> names
+
+template <class E> constexpr std::string_view nameOf(E value) {
+    return EnumNames<E>::names[static_cast<std::size_t>(value)];
+}
+
+template <class E> constexpr std::optional<E> enumFromName(std::string_view name) {
+    for (std::size_t i = 0; i < EnumNames<E>::names.size(); ++i) {
+        if (EnumNames<E>::names[i] == name) {
+            return static_cast<E>(i);
+        }
+    }
+    return std::nullopt;
+}
+
+/// The 1 + 6 effects of DESIGN.md §4.
+enum class Effect { Elasticity, Densification, Fracture, Contact, Indenter, Coupling, Damping };
+template <> struct EnumNames<Effect> {
+    static constexpr std::array<std::string_view, 7> names = {
+        "elasticity", "densification", "fracture", "contact", "indenter", "coupling", "damping"};
+};
+
+enum class Lattice { Sc, Fcc, Random };
+template <> struct EnumNames<Lattice> {
+    static constexpr std::array<std::string_view, 3> names = {"sc", "fcc", "random"};
+};
+
+enum class SampleShape { Box, Cylinder, Sphere, Hemisphere };
+template <> struct EnumNames<SampleShape> {
+    static constexpr std::array<std::string_view, 4> names = {"box", "cylinder", "sphere", "hemisphere"};
+};
+
+enum class BoundaryKind { Fixed, Velocity, Displacement };
+template <> struct EnumNames<BoundaryKind> {
+    static constexpr std::array<std::string_view, 3> names = {"fixed", "velocity", "displacement"};
+};
+
+enum class DampingKind { None, CundallLocal, BondViscous };
+template <> struct EnumNames<DampingKind> {
+    static constexpr std::array<std::string_view, 3> names = {"none", "cundall", "bond-viscous"};
+};
+
+enum class IndenterKind { Vickers, Cone, Sphere };
+template <> struct EnumNames<IndenterKind> {
+    static constexpr std::array<std::string_view, 3> names = {"vickers", "cone", "sphere"};
+};
+
+enum class StageKind { Load, Hold, Unload, Relax };
+template <> struct EnumNames<StageKind> {
+    static constexpr std::array<std::string_view, 4> names = {"load", "hold", "unload", "relax"};
+};
+
+/// Ω_i of the fracture criterion: the particle's sphere over the packing fraction, or the bare sphere.
+enum class FractureVolume { Packing, Sphere };
+template <> struct EnumNames<FractureVolume> {
+    static constexpr std::array<std::string_view, 2> names = {"packing", "sphere"};
+};
+
+/// The stress the fracture criterion reads: eq (10) per particle, or its Ω-weighted mean with the bonded
+/// neighbours.
+enum class FractureAveraging { None, Neighbours };
+template <> struct EnumNames<FractureAveraging> {
+    static constexpr std::array<std::string_view, 2> names = {"none", "neighbours"};
+};
+
+enum class CouplingProfile { Linear, Cubic };
+template <> struct EnumNames<CouplingProfile> {
+    static constexpr std::array<std::string_view, 2> names = {"linear", "cubic"};
+};
+
+enum class LateralFaces { Free, Roller };
+template <> struct EnumNames<LateralFaces> {
+    static constexpr std::array<std::string_view, 2> names = {"free", "roller"};
+};
+
+enum class ZoneCheckMode { Strict, Weighted };
+template <> struct EnumNames<ZoneCheckMode> {
+    static constexpr std::array<std::string_view, 2> names = {"strict", "weighted"};
+};
+
+/// Per-particle fields of the VTU maps ([output] fields).
+enum class OutputField {
+    Displacement,
+    Velocity,
+    Force,
+    AngularVelocity,
+    Torque,
+    Coordination,
+    Radius,
+    Densification,
+    Tool,
+    Damage,
+    Stress
+};
+template <> struct EnumNames<OutputField> {
+    static constexpr std::array<std::string_view, 11> names = {
+        "displacement", "velocity",      "force", "angular_velocity", "torque", "coordination",
+        "radius",       "densification", "tool",  "damage",           "stress"};
+};
+
+/// The names of a list of choices, in its order (for logs and JSON).
+template <class E> std::vector<std::string> namesOf(const std::vector<E>& values) {
+    std::vector<std::string> names;
+    for (const E value : values) {
+        names.emplace_back(nameOf(value));
+    }
+    return names;
+}
+
+// --- Parameters -----------------------------------------------------------------------------------------
+// Every struct compares member by member (operator==), so a whole Scene can be compared exactly, e.g. after
+// a round trip through the resolved scene.
 
 /// Units the scene file's numbers are written in (converted on reading). Density is always kg/m³, angles
 /// degrees; velocity is length/time.
@@ -18,13 +141,15 @@ struct UnitSystem {
     std::string stress = "GPa"; ///< Pa | kPa | MPa | GPa
     std::string force = "N";   ///< N | mN | uN | nN
     std::string time = "ns";   ///< s | ms | us | ns | ps
+
+    bool operator==(const UnitSystem&) const = default;
 };
 
 /// The sample: a regular lattice (sc, fcc; bonds to neighbours within bond_tolerance) or a dense random
 /// packing (random; solver/model/packing.hpp: bonds chosen to reach the target coordination).
 struct SampleParams {
-    std::string lattice = "fcc";   ///< sc | fcc | random
-    std::string shape = "box";     ///< box | cylinder | sphere | hemisphere
+    Lattice lattice = Lattice::Fcc;
+    SampleShape shape = SampleShape::Box;
     Vec3 size = Vec3(10, 10, 10);  ///< box edge lengths, µm (shape = box); the box spans [0, size]
     double radius = 5.0;           ///< µm (cylinder, sphere, hemisphere)
     double height = 10.0;          ///< µm (cylinder, axis z from 0 to height)
@@ -40,6 +165,8 @@ struct SampleParams {
     /// keeps its default 0.63, the fracture effect's φ unless [fracture] packing_fraction says otherwise).
     std::string cut_from;
     Vec3 cut_offset = Vec3::Zero(); ///< µm: where the shape's origin lies in the cut_from packing
+
+    bool operator==(const SampleParams&) const = default;
 };
 
 /// Micro-parameters of the cohesive beams (paper Table 1) and the particle density.
@@ -49,15 +176,17 @@ struct MaterialParams {
     double beam_poisson = 0.3;     ///< ν_μ (G_μ = E_μ/(2(1+ν_μ)))
     double radius_ratio = 0.57;    ///< r̃_μ: beam radius / mean radius of the two particles
     std::string calibration;       ///< the calibration file read for [material] calibration (resolved path; "" if none)
+
+    bool operator==(const MaterialParams&) const = default;
 };
 
 /// A named particle set. `where` is a geometric selector, see solver/model/sets.hpp for the grammar.
 struct SetParams {
     std::string name;
     std::string where;
-};
 
-enum class BoundaryKind { Fixed, Velocity, Displacement };
+    bool operator==(const SetParams&) const = default;
+};
 
 /// A kinematic boundary condition on a set: clamped (position and rotation), prescribed velocity, or a
 /// displacement ramped linearly over ramp_time then held. Rotations of a constrained set are clamped.
@@ -66,6 +195,8 @@ struct BoundaryParams {
     BoundaryKind kind = BoundaryKind::Fixed;
     Vec3 value = Vec3::Zero(); ///< velocity (km/s) or displacement (µm)
     double ramp_time = 0.0;    ///< ns, Displacement only; 0 = applied at once
+
+    bool operator==(const BoundaryParams&) const = default;
 };
 
 /// A surface load (not kinematic): hydrostatic pressure on the convex hull of a set's centres (solver/
@@ -88,14 +219,16 @@ struct LoadParams {
         }
         return released < release_time ? pressure * (1.0 - released / release_time) : 0.0;
     }
-};
 
-enum class DampingKind { None, CundallLocal, BondViscous };
+    bool operator==(const LoadParams&) const = default;
+};
 
 /// Explicit damping (effect `damping`), always reported in the log and summary.
 struct DampingParams {
     DampingKind kind = DampingKind::None;
     double coefficient = 0.0; ///< Cundall α ∈ [0,1) or bond-viscous fraction of critical damping
+
+    bool operator==(const DampingParams&) const = default;
 };
 
 /// Effect `densification` (paper §2.2, kernels/densification.hpp). Defaults: paper Table 3; the macroscopic
@@ -113,12 +246,14 @@ struct DensificationParams {
     Vec3 eq5 = Vec3::Zero();            ///< a₀, a₁, a₂
     Vec3 eq6_b0 = Vec3::Zero();         ///< b₀₀, b₀₁, b₀₂, GPa
     Vec3 eq6_b1 = Vec3::Zero();         ///< b₁₀, b₁₁, b₁₂
+
+    bool operator==(const DensificationParams&) const = default;
 };
 
 /// Effect `indenter`: a rigid tool driven along −z on the sample's axis (kernels/indenter.hpp) through the
 /// scene's stages (solver/effects/indenter.hpp).
 struct IndenterParams {
-    std::string kind = "vickers";        ///< vickers | cone | sphere
+    IndenterKind kind = IndenterKind::Vickers;
     double face_angle = 2.3736477827122884; ///< rad, vickers: angle between opposite faces (136°)
     double cone_half_angle = 1.2269;     ///< rad, cone: flank to axis (70.3°: the Vickers-equivalent cone)
     double height = 2.0;                 ///< µm, vickers and cone
@@ -128,9 +263,9 @@ struct IndenterParams {
     double friction = 0.0;               ///< Coulomb μ (0: frictionless)
     double gap = 0.0;                    ///< µm between the tip and the highest particle at the start
     Vec3 axis = Vec3::Zero();            ///< µm, (x, y) of the tool axis; z unused
-};
 
-enum class StageKind { Load, Hold, Unload, Relax };
+    bool operator==(const IndenterParams&) const = default;
+};
 
 /// One stage of the tool's programme (DESIGN.md §5 [[stage]]).
 ///   load    tip moves down at `speed` until the tool force reaches until_force (slowing down over the last
@@ -152,6 +287,8 @@ struct StageParams {
     double kinetic_tolerance = 1e-4;///< relax: KE / tool work at which the sample counts as at rest
     double settle = 0.0;            ///< relax: ns the kinetic criterion must hold without a break (0: once)
     bool force_control = true;      ///< hold: keep the force (speed, until_force, slow_band: the load's)
+
+    bool operator==(const StageParams&) const = default;
 };
 
 /// Effect `fracture` (paper §3, eqs 7–10; kernels/virial_stress.hpp, kernels/fracture.hpp): per-particle
@@ -159,9 +296,11 @@ struct StageParams {
 struct FractureParams {
     double hydrostatic_strength = 0.067; ///< σ_f^hyd, GPa (paper: 67 MPa for its Ω_i and R; recalibrate)
     long check_every = 1;                ///< steps between evaluations of the criterion
-    std::string volume = "packing";      ///< Ω_i: "packing" (sphere / packing_fraction) | "sphere" (bare sphere)
+    FractureVolume volume = FractureVolume::Packing; ///< Ω_i: sphere / packing_fraction, or the bare sphere
     double packing_fraction = 0.0;       ///< φ of Ω_i = (4/3)πR³/φ; 0 = the sample's (random: its target, fcc, sc)
-    std::string averaging = "none";     ///< "none" (eq 10 per particle) | "neighbours" (Ω-weighted mean with bonded neighbours)
+    FractureAveraging averaging = FractureAveraging::None;
+
+    bool operator==(const FractureParams&) const = default;
 };
 
 /// Effect `contact` (on with `fracture`; kernels/contact.hpp): unbonded particle–particle contacts.
@@ -171,6 +310,8 @@ struct ContactParams {
     double tangential_ratio = 0.5;  ///< k_t / k_n
     double friction = 0.3;          ///< Coulomb μ
     double skin_ratio = 0.2;        ///< Verlet skin / mean particle radius
+
+    bool operator==(const ContactParams&) const = default;
 };
 
 /// Effect `coupling` (reference note cnem-coupling.md §4; solver/effects/coupling.hpp): the DEM hemisphere
@@ -182,24 +323,28 @@ struct CouplingParams {
     double thickness = 2.0;             ///< bridging zone thickness, µm (paper: 2 µm)
     double box = 30.0;                  ///< CNEM box edge, µm (paper: 30 µm)
     long nodes = 10000;                 ///< target CNEM node count (paper: ≈ 10 000)
-    std::string profile = "linear";     ///< weight profile: linear | cubic
+    CouplingProfile profile = CouplingProfile::Linear; ///< weight profile
     double multiplier_tolerance = 1e-2; ///< a node carries a multiplier above this × the largest support
     double stabilisation = 0.05;        ///< β of the CNEM's linear-tet stabilisation
     double jitter = 0.3;                ///< interior node jitter, fraction of the spacing
-    std::string lateral = "free";       ///< CNEM lateral faces: free | roller
+    LateralFaces lateral = LateralFaces::Free; ///< CNEM lateral faces
     double young = 0.0;                 ///< continuum E, GPa (resolved: from the calibration or explicit)
     double poisson = 0.0;               ///< continuum ν
     double density = 0.0;               ///< continuum ρ, 10³ kg/m³; 0 = measured on the packing (Σm/V)
     std::string material_source;        ///< where E, ν come from (for the log and summary)
-    /// APP-2 zone check (solver/cnem/bridge.hpp ZoneCheck): "strict" (any slip in the zone stops the run) or
-    /// "weighted" (the continuum-weighted slip volume may reach zone_tolerance of the total)
-    std::string zone_check = "strict";
+    /// APP-2 zone check (solver/cnem/bridge.hpp ZoneCheck): strict (any slip in the zone stops the run) or
+    /// weighted (the continuum-weighted slip volume may reach zone_tolerance of the total)
+    ZoneCheckMode zone_check = ZoneCheckMode::Strict;
     double zone_tolerance = 0.01;
+
+    bool operator==(const CouplingParams&) const = default;
 };
 
 struct TimeParams {
     double safety_ratio = 0.1; ///< Δt = ratio × Δt_crit (kernels/timestep.hpp)
     double duration = 1.0;     ///< ns of simulated time (with stages: the longest the stages may take)
+
+    bool operator==(const TimeParams&) const = default;
 };
 
 /// Uniaxial measurement: apparent modulus σ/ε from the reaction on a loaded set, the sample's cross-section
@@ -208,21 +353,26 @@ struct MeasureParams {
     bool uniaxial = false;
     std::string loaded_set;
     int axis = 2; ///< 0 x, 1 y, 2 z
+
+    bool operator==(const MeasureParams&) const = default;
 };
 
 struct OutputParams {
     long every = 100;                 ///< steps between series.csv rows
     long maps = 10;                   ///< number of VTU snapshots over the run (plus the initial one); 0 = none
     long checkpoints = 0;             ///< periodic HDF5 checkpoints (state.h5) over the run; the final state is always saved
-    std::vector<std::string> fields = {"displacement", "velocity", "force", "coordination"};
+    std::vector<OutputField> fields = {OutputField::Displacement, OutputField::Velocity, OutputField::Force,
+                                       OutputField::Coordination};
     std::vector<std::string> reactions; ///< sets whose total bond force is recorded
+
+    bool operator==(const OutputParams&) const = default;
 };
 
 struct Scene {
     std::string name = "unnamed";
     std::uint64_t seed = 1;
     UnitSystem units;
-    std::vector<std::string> effects = {"elasticity"}; ///< composed in this order (DESIGN.md §4)
+    std::vector<Effect> effects = {Effect::Elasticity}; ///< composed in this order (DESIGN.md §4)
     SampleParams sample;
     MaterialParams material;
     std::vector<SetParams> sets;
@@ -240,14 +390,16 @@ struct Scene {
     OutputParams output;
     std::string source_path; ///< the scene file it came from
 
-    bool hasEffect(const std::string& effect) const {
-        for (const std::string& e : effects) {
+    bool hasEffect(Effect effect) const {
+        for (const Effect e : effects) {
             if (e == effect) {
                 return true;
             }
         }
         return false;
     }
+
+    bool operator==(const Scene&) const = default;
 };
 
 } // namespace vitrum

@@ -192,7 +192,7 @@ LinearContact contactLaw(const Scene& scene, const Model& model) {
 }
 
 double contactOmegaSquared(const Scene& scene, const Model& model) {
-    if (!scene.hasEffect("contact") || model.particles.size() == 0) {
+    if (!scene.hasEffect(Effect::Contact) || model.particles.size() == 0) {
         return 0.0;
     }
     const Particles& p = model.particles;
@@ -255,7 +255,7 @@ double contactOmegaSquared(const Scene& scene, const Model& model) {
 }
 
 std::optional<Contact> buildContact(const Scene& scene, const Model& model) {
-    if (!scene.hasEffect("contact")) {
+    if (!scene.hasEffect(Effect::Contact)) {
         return std::nullopt;
     }
     Contact c;

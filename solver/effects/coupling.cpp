@@ -63,7 +63,7 @@ std::shared_ptr<CoupledContinuum> buildCoupledContinuum(const Scene& scene, cons
         throw InputError(scene.source_path + ": [coupling]: the CNEM box has no node on its bottom face");
     fixCnemNodes(c->cnem, bottom, {true, true, true});
     c->clamped_nodes = bottom.size();
-    if (p.lateral == "roller") {
+    if (p.lateral == LateralFaces::Roller) {
         fixCnemNodes(c->cnem, xfaces, {true, false, false});
         fixCnemNodes(c->cnem, yfaces, {false, true, false});
         c->roller_nodes = xfaces.size() + yfaces.size();
@@ -71,7 +71,8 @@ std::shared_ptr<CoupledContinuum> buildCoupledContinuum(const Scene& scene, cons
 
     BridgeZone zone;
     zone.shape = BridgeZone::Shape::Radial;
-    zone.profile = p.profile == "cubic" ? BridgeZone::Profile::Cubic : BridgeZone::Profile::Linear;
+    zone.profile =
+        p.profile == CouplingProfile::Cubic ? BridgeZone::Profile::Cubic : BridgeZone::Profile::Linear;
     zone.origin = Vec3::Zero();
     zone.inner = c->cavity_radius;
     zone.outer = R;
@@ -85,14 +86,14 @@ std::shared_ptr<CoupledContinuum> buildCoupledContinuum(const Scene& scene, cons
                          " um, mean particle radius sets the DEM spacing; try a thicker zone or fewer nodes)");
     }
     c->report = checkBridge(c->bridge, model.particles, model.bonds);
-    c->zone_check.mode = p.zone_check == "weighted" ? ZoneCheck::Mode::Weighted : ZoneCheck::Mode::Strict;
+    c->zone_check.mode = p.zone_check == ZoneCheckMode::Weighted ? ZoneCheck::Mode::Weighted : ZoneCheck::Mode::Strict;
     c->zone_check.tolerance = p.zone_tolerance;
     c->build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
 }
 
 std::shared_ptr<CoupledContinuum> buildCoupling(const Scene& scene, const Model& model) {
-    return scene.hasEffect("coupling") ? buildCoupledContinuum(scene, model) : nullptr;
+    return scene.hasEffect(Effect::Coupling) ? buildCoupledContinuum(scene, model) : nullptr;
 }
 
 void addCoupledKickDriftPhase(Step& step) {
@@ -223,11 +224,11 @@ void describe(const CoupledContinuum& c, const Model& model, const TimeStep& ts,
     log << "  coupling   CNEM box " << cp.box << " um minus the ball r < " << c.cavity_radius << " um: "
         << c.cnem.nodes() << " nodes (h = " << c.spacing << " um), " << c.cnem.mesh.tetCount()
         << " tets, beta = " << cp.stabilisation << "; bottom clamped (" << c.clamped_nodes
-        << " nodes), lateral faces " << cp.lateral << "\n             continuum E = " << c.cnem.material.young
+        << " nodes), lateral faces " << nameOf(cp.lateral) << "\n             continuum E = " << c.cnem.material.young
         << " GPa, nu = " << c.cnem.material.poisson << " (" << cp.material_source
         << "), rho = " << c.cnem.material.density * 1e3 << " kg/m^3 ("
         << (cp.density > 0.0 ? "explicit" : "measured on the packing: sum m_i / V") << ")\n             bridging zone "
-        << c.cavity_radius << " <= r <= " << model.sample.radius << " um (" << cp.profile
+        << c.cavity_radius << " <= r <= " << model.sample.radius << " um (" << nameOf(cp.profile)
         << " weights): " << c.report.bridging_particles << " bridging particles, " << c.report.bonds_in_zone
         << " bonds in the zone (" << c.report.kinked_bonds << " cut off their midpoint), " << c.report.multipliers
         << " multipliers; built in " << c.build_seconds << " s\n             omega: weighted DEM "
@@ -254,8 +255,8 @@ void summarize(CoupledContinuum& c, Model& model, const RunClock& clock, nlohman
         {"box_um", cp.box},
         {"zone_inner_um", c.cavity_radius},
         {"zone_outer_um", model.sample.radius},
-        {"profile", cp.profile},
-        {"lateral_faces", cp.lateral},
+        {"profile", nameOf(cp.profile)},
+        {"lateral_faces", nameOf(cp.lateral)},
         {"continuum_young_modulus_GPa", c.cnem.material.young},
         {"continuum_poisson_ratio", c.cnem.material.poisson},
         {"continuum_density_kg_per_m3", c.cnem.material.density * 1e3},
@@ -276,7 +277,7 @@ void summarize(CoupledContinuum& c, Model& model, const RunClock& clock, nlohman
         {"zone_broken_bonds", z.broken_bonds},
         {"zone_densified_bonds", z.densified_bonds},
         {"zone_released_particles", z.released_particles},
-        {"zone_check", cp.zone_check},
+        {"zone_check", nameOf(cp.zone_check)},
         {"zone_tolerance", cp.zone_tolerance},
         {"zone_max_slip", z.max_slip},
         {"zone_min_densified_alpha_d", z.min_densified_weight},

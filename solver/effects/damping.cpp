@@ -21,7 +21,7 @@ const char* Damping::name() const {
 }
 
 std::optional<Damping> buildDamping(const Scene& scene) {
-    if (!scene.hasEffect("damping") || scene.damping.kind == DampingKind::None) {
+    if (!scene.hasEffect(Effect::Damping) || scene.damping.kind == DampingKind::None) {
         return std::nullopt;
     }
     return Damping{scene.damping.kind, scene.damping.coefficient};

@@ -26,7 +26,7 @@ DensificationLaw densificationLaw(const Scene& scene) {
 }
 
 std::optional<Densification> buildDensification(const Scene& scene, Model& model) {
-    if (!scene.hasEffect("densification")) {
+    if (!scene.hasEffect(Effect::Densification)) {
         return std::nullopt;
     }
     model.bonds.enableDensification(); // a restart's checkpoint brings it back filled

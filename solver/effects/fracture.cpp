@@ -15,17 +15,17 @@ namespace vitrum {
 
 ParticleVolume particleVolume(const Scene& scene) {
     const FractureParams& f = scene.fracture;
-    if (f.volume == "sphere") {
+    if (f.volume == FractureVolume::Sphere) {
         return {1.0};
     }
     if (f.packing_fraction > 0.0) {
         return {f.packing_fraction};
     }
-    const std::string& lattice = scene.sample.lattice;
-    if (lattice == "sc") {
+    const Lattice lattice = scene.sample.lattice;
+    if (lattice == Lattice::Sc) {
         return {std::numbers::pi / 6.0};
     }
-    if (lattice == "fcc") {
+    if (lattice == Lattice::Fcc) {
         return {std::numbers::pi / (3.0 * std::numbers::sqrt2)};
     }
     return {scene.sample.packing_fraction};
@@ -49,7 +49,7 @@ void stressOf(Model& m, Fracture& fracture, Contact* contact) {
 } // namespace
 
 std::optional<Fracture> buildFracture(const Scene& scene, Model& model) {
-    if (!scene.hasEffect("fracture")) {
+    if (!scene.hasEffect(Effect::Fracture)) {
         return std::nullopt;
     }
     return makeFracture(scene, model);
@@ -61,7 +61,7 @@ Fracture makeFracture(const Scene& scene, Model& model) {
     f.law = HydrostaticRelease{scene.fracture.hydrostatic_strength};
     f.check_every = scene.fracture.check_every;
     f.volume = particleVolume(scene);
-    f.averaging = scene.fracture.averaging == "neighbours";
+    f.averaging = scene.fracture.averaging == FractureAveraging::Neighbours;
     if (f.averaging) {
         f.scratch.assign(model.particles.stress.size(), 0.0); // allocated only then
     }

@@ -41,10 +41,10 @@ std::string Indenter::stageName() const { return done() ? "done" : stageKindName
 Indenter makeIndenter(const Scene& scene, const Model& model) {
     const IndenterParams& p = scene.indenter;
     Indenter ind;
-    if (p.kind == "vickers") {
+    if (p.kind == IndenterKind::Vickers) {
         ind.tool.kind = ToolKind::Vickers;
         ind.tool.half_angle = 0.5 * p.face_angle;
-    } else if (p.kind == "cone") {
+    } else if (p.kind == IndenterKind::Cone) {
         ind.tool.kind = ToolKind::Cone;
         ind.tool.half_angle = p.cone_half_angle;
     } else {
@@ -96,7 +96,7 @@ Indenter makeIndenter(const Scene& scene, const Model& model) {
 }
 
 std::optional<Indenter> buildIndenter(const Scene& scene, const Model& model) {
-    if (!scene.hasEffect("indenter")) {
+    if (!scene.hasEffect(Effect::Indenter)) {
         return std::nullopt;
     }
     // The tool comes down along its axis: some particle must lie under it, or it never meets the sample and

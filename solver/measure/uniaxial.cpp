@@ -14,13 +14,14 @@ UniaxialGauge uniaxialGauge(const Model& model, int axis) {
     const Particles& p = model.particles;
     UniaxialGauge g;
     g.axis = axis;
-    if (s.shape == "box") {
+    if (s.shape == SampleShape::Box) {
         g.area = s.size.prod() / s.size[axis];
-    } else if (s.shape == "cylinder" && axis == 2) {
+    } else if (s.shape == SampleShape::Cylinder && axis == 2) {
         g.area = std::numbers::pi * s.radius * s.radius;
     } else {
-        throw InputError("[measure] kind = \"uniaxial\" needs a box sample, or a cylinder loaded along z; got a " +
-                         s.shape + " loaded along axis " + std::string(1, "xyz"[axis]));
+        throw InputError(
+            "[measure] kind = \"uniaxial\" needs a box sample, or a cylinder loaded along z; got a " +
+            std::string(nameOf(s.shape)) + " loaded along axis " + std::string(1, "xyz"[axis]));
     }
     double lo = 1e300;
     double hi = -1e300;
@@ -47,7 +48,7 @@ UniaxialGauge uniaxialGauge(const Model& model, int axis) {
     }
     const double third_lo = lo + g.gauge / 3.0;
     const double third_hi = hi - g.gauge / 3.0;
-    const Vec3 centre = s.shape == "box" ? Vec3(0.5 * s.size) : Vec3::Zero();
+    const Vec3 centre = s.shape == SampleShape::Box ? Vec3(0.5 * s.size) : Vec3::Zero();
     for (std::size_t i = 0; i < p.size(); ++i) {
         const Vec3 x = load3(p.initial_position.data(), i);
         if (!(p.flags[i] & kSurface) || x[axis] < third_lo || x[axis] > third_hi) {
@@ -55,7 +56,7 @@ UniaxialGauge uniaxialGauge(const Model& model, int axis) {
         }
         Vec3 n = Vec3::Zero();
         double arm = 0.0;
-        if (s.shape == "cylinder") {
+        if (s.shape == SampleShape::Cylinder) {
             n = Vec3(x.x(), x.y(), 0.0);
             arm = n.norm();
             if (arm < 0.5 * s.radius) {

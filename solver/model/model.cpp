@@ -80,7 +80,7 @@ BondedSample buildSample(const Scene& scene) {
         throw InputError(scene.source_path + ": key 'sample.cut_from': a cut sample is read through "
                                              "loadOrBuildSample, not packed");
     }
-    if (scene.sample.lattice == "random") {
+    if (scene.sample.lattice == Lattice::Random) {
         PackingParams params = packingParamsFor(scene.sample, scene.seed);
         Packing packing;
         try {

@@ -22,35 +22,16 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-enum class ShapeKind { Box, Cylinder, Sphere, Hemisphere };
-
-ShapeKind shapeKind(const std::string& shape) {
-    if (shape == "box") {
-        return ShapeKind::Box;
-    }
-    if (shape == "cylinder") {
-        return ShapeKind::Cylinder;
-    }
-    if (shape == "sphere") {
-        return ShapeKind::Sphere;
-    }
-    if (shape == "hemisphere") {
-        return ShapeKind::Hemisphere;
-    }
-    throw std::invalid_argument("packing: unknown shape '" + shape +
-                                "'; expected box, cylinder, sphere or hemisphere");
-}
-
 /// Radius of the largest ball inside the shape, µm.
 double inscribedRadius(const PackingParams& p) {
-    switch (shapeKind(p.shape)) {
-    case ShapeKind::Box:
+    switch (p.shape) {
+    case SampleShape::Box:
         return 0.5 * p.size.minCoeff();
-    case ShapeKind::Cylinder:
+    case SampleShape::Cylinder:
         return std::min(p.radius, 0.5 * p.height);
-    case ShapeKind::Sphere:
+    case SampleShape::Sphere:
         return p.radius;
-    case ShapeKind::Hemisphere:
+    case SampleShape::Hemisphere:
         return 0.5 * p.radius;
     }
     return 0.0;
@@ -59,15 +40,15 @@ double inscribedRadius(const PackingParams& p) {
 /// The keys that set the shape's dimensions and their values, for messages: "size = [x, y, z] um", ...
 std::string shapeKeys(const PackingParams& p) {
     char buf[160] = "";
-    switch (shapeKind(p.shape)) {
-    case ShapeKind::Box:
+    switch (p.shape) {
+    case SampleShape::Box:
         std::snprintf(buf, sizeof buf, "size = [%.6g, %.6g, %.6g] um", p.size.x(), p.size.y(), p.size.z());
         break;
-    case ShapeKind::Cylinder:
+    case SampleShape::Cylinder:
         std::snprintf(buf, sizeof buf, "radius = %.6g um, height = %.6g um", p.radius, p.height);
         break;
-    case ShapeKind::Sphere:
-    case ShapeKind::Hemisphere:
+    case SampleShape::Sphere:
+    case SampleShape::Hemisphere:
         std::snprintf(buf, sizeof buf, "radius = %.6g um", p.radius);
         break;
     }
@@ -76,20 +57,20 @@ std::string shapeKeys(const PackingParams& p) {
 
 /// Bounding box of the shape.
 void shapeBounds(const PackingParams& p, Vec3& lo, Vec3& hi) {
-    switch (shapeKind(p.shape)) {
-    case ShapeKind::Box:
+    switch (p.shape) {
+    case SampleShape::Box:
         lo = Vec3::Zero();
         hi = p.size;
         return;
-    case ShapeKind::Cylinder:
+    case SampleShape::Cylinder:
         lo = Vec3(-p.radius, -p.radius, 0.0);
         hi = Vec3(p.radius, p.radius, p.height);
         return;
-    case ShapeKind::Sphere:
+    case SampleShape::Sphere:
         lo = Vec3::Constant(-p.radius);
         hi = Vec3::Constant(p.radius);
         return;
-    case ShapeKind::Hemisphere:
+    case SampleShape::Hemisphere:
         lo = Vec3::Constant(-p.radius);
         hi = Vec3(p.radius, p.radius, 0.0);
         return;
@@ -99,7 +80,7 @@ void shapeBounds(const PackingParams& p, Vec3& lo, Vec3& hi) {
 /// The faces of the shape as repulsive walls: each face w pushes a sphere of radius r whose centre is closer
 /// than r to it along the face's inward normal with force δ_w = r − distance (harmonic, unit stiffness).
 struct Walls {
-    ShapeKind kind = ShapeKind::Box;
+    SampleShape kind = SampleShape::Box;
     Vec3 size = Vec3::Zero();
     double radius = 0.0;
     double height = 0.0;
@@ -115,7 +96,7 @@ struct Walls {
             }
         };
         switch (kind) {
-        case ShapeKind::Box:
+        case SampleShape::Box:
             face(x.x(), Vec3(1, 0, 0));
             face(size.x() - x.x(), Vec3(-1, 0, 0));
             face(x.y(), Vec3(0, 1, 0));
@@ -123,7 +104,7 @@ struct Walls {
             face(x.z(), Vec3(0, 0, 1));
             face(size.z() - x.z(), Vec3(0, 0, -1));
             break;
-        case ShapeKind::Cylinder: {
+        case SampleShape::Cylinder: {
             const double rho = std::hypot(x.x(), x.y());
             if (rho > 0.0) { // at rho = 0 the side is `radius` ≥ r away (validated)
                 face(radius - rho, Vec3(-x.x() / rho, -x.y() / rho, 0.0));
@@ -132,13 +113,13 @@ struct Walls {
             face(height - x.z(), Vec3(0, 0, -1));
             break;
         }
-        case ShapeKind::Sphere:
-        case ShapeKind::Hemisphere: {
+        case SampleShape::Sphere:
+        case SampleShape::Hemisphere: {
             const double norm = x.norm();
             if (norm > 0.0) {
                 face(radius - norm, -x / norm);
             }
-            if (kind == ShapeKind::Hemisphere) {
+            if (kind == SampleShape::Hemisphere) {
                 face(-x.z(), Vec3(0, 0, -1));
             }
             break;
@@ -286,7 +267,7 @@ class Compactor {
 public:
     Compactor(const PackingParams& params, std::vector<double> x, std::vector<double> r)
         : params_(params), shape_(shapeParams(params)), n_(r.size()), x_(std::move(x)), r_(std::move(r)) {
-        walls_.kind = shapeKind(params.shape);
+        walls_.kind = params.shape;
         walls_.size = params.size;
         walls_.radius = params.radius;
         walls_.height = params.height;
@@ -403,7 +384,7 @@ private:
                       " % of its volume, so the target applies to the whole shape, loose wall layers "
                       "included."
                 : std::string();
-        return "packing " + std::to_string(n_) + " particles in a " + params_.shape +
+        return "packing " + std::to_string(n_) + " particles in a " + std::string(nameOf(params_.shape)) +
                ": cannot reach the target packing fraction " +
                std::to_string(params_.target_packing_fraction) + " (nor " +
                std::to_string(params_.packing_fraction_tolerance) + " below it): " + why + buf +
@@ -673,7 +654,7 @@ PackingParams packingParamsFor(const SampleParams& sample, std::uint64_t seed) {
 }
 
 void validatePackingParams(const PackingParams& p) {
-    const ShapeKind kind = shapeKind(p.shape);
+    const SampleShape kind = p.shape;
     auto positive = [](double value, const char* key) {
         if (!(value > 0.0) || !std::isfinite(value)) {
             throw std::invalid_argument(std::string("packing: ") + key + " = " + std::to_string(value) +
@@ -681,17 +662,17 @@ void validatePackingParams(const PackingParams& p) {
         }
     };
     switch (kind) {
-    case ShapeKind::Box:
+    case SampleShape::Box:
         positive(p.size.x(), "size.x");
         positive(p.size.y(), "size.y");
         positive(p.size.z(), "size.z");
         break;
-    case ShapeKind::Cylinder:
+    case SampleShape::Cylinder:
         positive(p.radius, "radius");
         positive(p.height, "height");
         break;
-    case ShapeKind::Sphere:
-    case ShapeKind::Hemisphere:
+    case SampleShape::Sphere:
+    case SampleShape::Hemisphere:
         positive(p.radius, "radius");
         break;
     }
@@ -759,7 +740,7 @@ void validatePackingParams(const PackingParams& p) {
         std::snprintf(buf, sizeof buf,
                       ": its largest particles (R = %.4g um) do not fit in it (inscribed radius %.4g um)",
                       largest, room);
-        throw std::invalid_argument("packing: the " + p.shape + " is too small for " +
+        throw std::invalid_argument("packing: the " + std::string(nameOf(p.shape)) + " is too small for " +
                                     std::to_string(p.particles) + " particle(s) at packing fraction " +
                                     std::to_string(p.target_packing_fraction) + buf +
                                     "; use more particles or a larger shape");
@@ -768,19 +749,19 @@ void validatePackingParams(const PackingParams& p) {
 
 double interiorVolume(const SampleParams& s, double m) {
     const double pi = kPi;
-    if (s.shape == "box") {
+    if (s.shape == SampleShape::Box) {
         const Vec3 inner = (s.size.array() - 2.0 * m).max(0.0).matrix();
         return inner.prod();
     }
-    if (s.shape == "cylinder") {
+    if (s.shape == SampleShape::Cylinder) {
         const double r = std::max(0.0, s.radius - m);
         return pi * r * r * std::max(0.0, s.height - 2.0 * m);
     }
-    if (s.shape == "sphere") {
+    if (s.shape == SampleShape::Sphere) {
         const double r = std::max(0.0, s.radius - m);
         return 4.0 / 3.0 * pi * r * r * r;
     }
-    if (s.shape == "hemisphere") {
+    if (s.shape == SampleShape::Hemisphere) {
         // Ball of radius ρ = R − m cut by the plane z = −m: a cap of height ρ − m.
         const double rho = s.radius - m;
         const double cap = rho - m;
@@ -789,7 +770,7 @@ double interiorVolume(const SampleParams& s, double m) {
         }
         return pi * cap * cap * (3.0 * rho - cap) / 3.0;
     }
-    throw std::invalid_argument("unknown sample shape '" + s.shape + "'");
+    throw std::invalid_argument("unknown sample shape");
 }
 
 double regionPackingFraction(const SampleParams& shape, double margin, const std::vector<Vec3>& centres,
@@ -1151,7 +1132,7 @@ PackingReport analysePacking(const PackingParams& params, const std::vector<Vec3
     std::vector<std::uint8_t> interior(n);
     long surface = 0;
     Walls walls;
-    walls.kind = shapeKind(params.shape);
+    walls.kind = params.shape;
     walls.size = params.size;
     walls.radius = params.radius;
     walls.height = params.height;

@@ -66,7 +66,7 @@ struct Particles;
 
 /// Input of the packer. Shapes are those of solver/model/sample.hpp.
 struct PackingParams {
-    std::string shape = "box";                ///< box | cylinder | sphere | hemisphere
+    SampleShape shape = SampleShape::Box;
     Vec3 size = Vec3(10, 10, 10);             ///< box edge lengths, µm; the box spans [0, size]
     double radius = 5.0;                      ///< cylinder / sphere / hemisphere radius, µm
     double height = 10.0;                     ///< cylinder height, µm (axis z from 0 to height)

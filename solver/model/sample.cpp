@@ -11,35 +11,35 @@ namespace vitrum {
 
 double shapeVolume(const SampleParams& s) {
     const double pi = std::numbers::pi;
-    if (s.shape == "box") {
+    if (s.shape == SampleShape::Box) {
         return s.size.prod();
     }
-    if (s.shape == "cylinder") {
+    if (s.shape == SampleShape::Cylinder) {
         return pi * s.radius * s.radius * s.height;
     }
-    if (s.shape == "sphere") {
+    if (s.shape == SampleShape::Sphere) {
         return 4.0 / 3.0 * pi * s.radius * s.radius * s.radius;
     }
-    if (s.shape == "hemisphere") {
+    if (s.shape == SampleShape::Hemisphere) {
         return 2.0 / 3.0 * pi * s.radius * s.radius * s.radius;
     }
-    throw std::invalid_argument("unknown sample shape '" + s.shape + "'");
+    throw std::invalid_argument("unknown sample shape");
 }
 
 bool insideShape(const SampleParams& s, const Vec3& x) {
-    if (s.shape == "box") {
+    if (s.shape == SampleShape::Box) {
         return (x.array() >= 0.0).all() && (x.array() <= s.size.array()).all();
     }
-    if (s.shape == "cylinder") {
+    if (s.shape == SampleShape::Cylinder) {
         return x.x() * x.x() + x.y() * x.y() <= s.radius * s.radius && x.z() >= 0.0 && x.z() <= s.height;
     }
-    if (s.shape == "sphere") {
+    if (s.shape == SampleShape::Sphere) {
         return x.squaredNorm() <= s.radius * s.radius;
     }
-    if (s.shape == "hemisphere") {
+    if (s.shape == SampleShape::Hemisphere) {
         return x.squaredNorm() <= s.radius * s.radius && x.z() <= 0.0;
     }
-    throw std::invalid_argument("unknown sample shape '" + s.shape + "'");
+    throw std::invalid_argument("unknown sample shape");
 }
 
 std::vector<std::size_t> mortonOrder(const std::vector<Vec3>& points) {
@@ -75,9 +75,10 @@ std::vector<std::size_t> mortonOrder(const std::vector<Vec3>& points) {
 }
 
 Sample buildLatticeSample(const SampleParams& s) {
-    const bool fcc = s.lattice == "fcc";
-    if (!fcc && s.lattice != "sc") {
-        throw std::invalid_argument("unknown lattice '" + s.lattice + "'");
+    const bool fcc = s.lattice == Lattice::Fcc;
+    if (!fcc && s.lattice != Lattice::Sc) {
+        throw std::invalid_argument(
+            "a random sample is packed (solver/model/packing.hpp), not built as a lattice");
     }
     const double volume = shapeVolume(s);
     const double per_cell = fcc ? 4.0 : 1.0;
@@ -92,15 +93,15 @@ Sample buildLatticeSample(const SampleParams& s) {
     Vec3 origin;
     Vec3 lo;
     Vec3 hi;
-    if (s.shape == "box") {
+    if (s.shape == SampleShape::Box) {
         origin = Vec3::Constant(fcc ? 0.25 * a : 0.5 * a);
         lo = Vec3::Zero();
         hi = s.size;
-    } else if (s.shape == "cylinder") {
+    } else if (s.shape == SampleShape::Cylinder) {
         origin = Vec3(0, 0, fcc ? 0.25 * a : 0.5 * a);
         lo = Vec3(-s.radius, -s.radius, 0);
         hi = Vec3(s.radius, s.radius, s.height);
-    } else if (s.shape == "sphere") {
+    } else if (s.shape == SampleShape::Sphere) {
         origin = Vec3::Zero();
         lo = Vec3::Constant(-s.radius);
         hi = Vec3::Constant(s.radius);
@@ -140,14 +141,14 @@ Sample buildLatticeSample(const SampleParams& s) {
 
 namespace vitrum {
 double distanceToBoundary(const SampleParams& s, const Vec3& x) {
-    if (s.shape == "box") {
+    if (s.shape == SampleShape::Box) {
         return std::min(x.minCoeff(), (s.size - x).minCoeff());
     }
     const double rho = std::hypot(x.x(), x.y());
-    if (s.shape == "cylinder") {
+    if (s.shape == SampleShape::Cylinder) {
         return std::min({s.radius - rho, x.z(), s.height - x.z()});
     }
-    if (s.shape == "sphere") {
+    if (s.shape == SampleShape::Sphere) {
         return s.radius - x.norm();
     }
     return std::min(s.radius - x.norm(), -x.z());

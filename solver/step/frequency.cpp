@@ -151,7 +151,7 @@ FrequencyEstimate highestFrequencyDensified(Model& m, const PropertyEvolution& e
 }
 
 FrequencyEstimate highestFrequencyFor(const Scene& scene, Model& m) {
-    if (scene.hasEffect("densification") && scene.densification.property_evolution) {
+    if (scene.hasEffect(Effect::Densification) && scene.densification.property_evolution) {
         return highestFrequencyDensified(m, densificationLaw(scene).evolution);
     }
     return highestFrequency(m);

@@ -13,7 +13,7 @@ namespace vitrum {
 
 TimeStep planTimeStep(const Scene& scene, Model& model, Effects& effects) {
     TimeStep ts;
-    ts.stiffest_densified = scene.hasEffect("densification") && scene.densification.property_evolution;
+    ts.stiffest_densified = scene.hasEffect(Effect::Densification) && scene.densification.property_evolution;
     ts.beams = highestFrequencyFor(scene, model);
     double omega = ts.beams.omega;
     if (effects.coupling) {

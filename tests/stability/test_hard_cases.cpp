@@ -25,8 +25,8 @@ using testing::maxBondStrain;
 
 Scene randomBall(long particles, std::uint64_t seed) {
     Scene s;
-    s.sample.lattice = "random";
-    s.sample.shape = "sphere";
+    s.sample.lattice = Lattice::Random;
+    s.sample.shape = SampleShape::Sphere;
     s.sample.radius = 2.0;
     s.sample.particles = particles;
     s.seed = seed;

@@ -56,8 +56,8 @@ struct CoupledBarSpec {
 inline CoupledBar makeCoupledBar(const CoupledBarSpec& spec) {
     CoupledBar bar;
     Scene s;
-    s.sample.lattice = "sc";
-    s.sample.shape = "box";
+    s.sample.lattice = Lattice::Sc;
+    s.sample.shape = SampleShape::Box;
     s.sample.size = Vec3(spec.dem_length, 3, 3);
     s.sample.particles = 9L * spec.dem_length;
     s.source_path = "<test>";

@@ -48,9 +48,9 @@ double totalEnergy(Model& m) {
     return k.translational + k.rotational + beamStrainEnergy(m.bonds.view(), m.particles.view());
 }
 
-Model fccModel(const std::string& shape, double radius, int particles) {
+Model fccModel(SampleShape shape, double radius, int particles) {
     Scene s;
-    s.sample.lattice = "fcc";
+    s.sample.lattice = Lattice::Fcc;
     s.sample.shape = shape;
     s.sample.radius = radius;
     s.sample.particles = particles;
@@ -133,7 +133,7 @@ std::vector<int> availableLanes() {
 /// every beam stretched, bent and twisted; every 97th particle turned by 0.3–0.6 rad (its bonds leave the
 /// series range), every 41st bond broken; with densification, bonds already slipped and bonds that slip now.
 Model strainedBondModel(bool densify) {
-    Model m = fccModel("sphere", 3.0, 6000);
+    Model m = fccModel(SampleShape::Sphere, 3.0, 6000);
     agitate(m, 7, 1e-3);
     std::mt19937_64 rng(3);
     std::normal_distribution<double> g(0.0, 2e-3);

@@ -21,7 +21,7 @@ int runVitrum(const std::string& args, const std::filesystem::path& log);
 
 /// A regular FCC sample built by buildModel (shape "sphere", "hemisphere", "cube", …; radius µm; about
 /// `particles` particles), for kernel tests that need a real bond network without a packing.
-Model fccModel(const std::string& shape, double radius, int particles);
+Model fccModel(SampleShape shape, double radius, int particles);
 
 /// Random thermal-like velocities (normal, standard deviation `speed` km/s per component) and spins
 /// (speed / R rad/ns), seeded.

@@ -33,7 +33,7 @@ using testing::writeStores;
 /// valid particle indices), plus a few special doubles whose bits a lossy path would change.
 Model perturbedModel(std::uint64_t seed) {
     Scene scene;
-    scene.sample.shape = "box";
+    scene.sample.shape = SampleShape::Box;
     scene.sample.size = Vec3(4, 4, 4);
     scene.sample.particles = 200;
     scene.source_path = "<test>";

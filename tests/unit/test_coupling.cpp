@@ -419,8 +419,8 @@ namespace {
 TEST(CouplingRadial, HemisphereInTheIndentationDomain) {
     const testing::SingleThread one_thread;
     Scene s;
-    s.sample.lattice = "fcc";
-    s.sample.shape = "hemisphere";
+    s.sample.lattice = Lattice::Fcc;
+    s.sample.shape = SampleShape::Hemisphere;
     s.sample.radius = 5.0;
     s.sample.particles = 2000;
     s.source_path = "<test>";

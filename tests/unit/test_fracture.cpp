@@ -101,7 +101,7 @@ TEST(VirialStress, ToolContactsEnterWithTheirContactPoints) {
     EXPECT_EQ(load3(tool.point.data(), 0), Vec3(0.0, 0.0, 0.5)); // the top of particle 0 (R = 0.5)
     m.particles.enableFracture();
     Scene s;
-    s.effects = {"elasticity", "fracture"};
+    s.effects = {Effect::Elasticity, Effect::Fracture};
     s.fracture.packing_fraction = 1.0;
     Fracture fracture = makeFracture(s, m);
     computeStress(m, fracture, nullptr, &indenter);
@@ -112,7 +112,7 @@ TEST(VirialStress, ToolContactsEnterWithTheirContactPoints) {
 
 Model lattice_for_average() {
     Scene s;
-    s.sample.lattice = "fcc";
+    s.sample.lattice = Lattice::Fcc;
     s.sample.size = Vec3(3, 3, 3);
     s.sample.particles = 300;
     s.source_path = "<test>";
@@ -145,9 +145,9 @@ TEST(VirialStress, NeighbourAveragingKeepsAUniformFieldAndDilutesASpike) {
     EXPECT_NEAR(out[6 * p], 1.0 / m.incidence.degree(p), 1e-15);
 }
 
-Model lattice(long particles, const std::string& shape = "box") {
+Model lattice(long particles, SampleShape shape = SampleShape::Box) {
     Scene s;
-    s.sample.lattice = "fcc";
+    s.sample.lattice = Lattice::Fcc;
     s.sample.shape = shape;
     s.sample.size = Vec3(3, 3, 3);
     s.sample.radius = 2.0;
@@ -335,7 +335,7 @@ TEST(ContactFrequency, PowerIterationFindsThePairEigenvalueAndStaysBelowTheBound
     m.particles = Particles::spheres({Vec3(0, 0, 0), Vec3(1, 0, 0)}, {0.5, 0.5}, 1.0);
     m.incidence = Incidence::build(2, m.bonds);
     Scene s;
-    s.effects = {"elasticity", "contact"};
+    s.effects = {Effect::Elasticity, Effect::Contact};
     s.contact.normal_stiffness = 10.0;
     s.contact.restitution = 1.0;
     const double exact = 3.5 * 10.0 / m.particles.mass[0];
@@ -380,16 +380,17 @@ TEST(FractureScene, KeysUnitsDefaultsAndRoundTrip) {
                                "[sample]\nlattice = \"sc\"\n[fracture]\nhydrostatic_strength = 80\ncheck_every = 5\naveraging = \"neighbours\"\n"
                                "[contact]\nnormal_stiffness = 0.002\nrestitution = 0.3\nfriction = 0.2\n[time]\nduration = 1\n",
                                "f.toml");
-    EXPECT_TRUE(s.hasEffect("contact")); // fracture switches contact on
+    EXPECT_TRUE(s.hasEffect(Effect::Contact)); // fracture switches contact on
     EXPECT_DOUBLE_EQ(s.fracture.hydrostatic_strength, 0.08);
     EXPECT_EQ(s.fracture.check_every, 5);
-    EXPECT_EQ(s.fracture.volume, "packing");
-    EXPECT_EQ(s.fracture.averaging, "neighbours");
+    EXPECT_EQ(s.fracture.volume, FractureVolume::Packing);
+    EXPECT_EQ(s.fracture.averaging, FractureAveraging::Neighbours);
     EXPECT_DOUBLE_EQ(s.fracture.packing_fraction, std::numbers::pi / 6.0); // sc
     EXPECT_DOUBLE_EQ(s.contact.normal_stiffness, 2.0);                      // 0.002 N/µm = 2 mN/µm
     EXPECT_DOUBLE_EQ(s.contact.restitution, 0.3);
     EXPECT_DOUBLE_EQ(s.contact.tangential_ratio, 0.5);
-    EXPECT_TRUE(std::find(s.output.fields.begin(), s.output.fields.end(), "damage") != s.output.fields.end());
+    EXPECT_TRUE(std::find(s.output.fields.begin(), s.output.fields.end(), OutputField::Damage) !=
+                s.output.fields.end());
     const std::string resolved = resolvedSceneToml(s);
     EXPECT_EQ(resolvedSceneToml(parseScene(resolved, "f.toml")), resolved);
     const Scene d = parseScene("[effects]\nlist = [\"fracture\"]\n[sample]\nlattice = \"random\"\n[time]\nduration = 1\n", "f.toml");
@@ -445,7 +446,7 @@ TEST(FractureStep, ComposedOnlyWhenListedAndUnlistedEffectsAllocateNothing) {
     again.advance(ctx);
     EXPECT_FALSE(fx.contact); // and stepping builds none
 
-    s.effects = {"elasticity", "fracture", "contact"};
+    s.effects = {Effect::Elasticity, Effect::Fracture, Effect::Contact};
     Model f = buildModel(s, 1.0);
     Effects f_fx = buildEffects(s, f);
     Step step = composeStep(f, f_fx);

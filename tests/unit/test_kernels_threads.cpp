@@ -17,7 +17,8 @@ namespace vitrum {
 namespace {
 
 Model agitatedLattice() {
-    Model m = testing::fccModel("sphere", 3.0, 6000); // > several reduction chunks (kReduceChunk = 2048)
+    Model m =
+        testing::fccModel(SampleShape::Sphere, 3.0, 6000); // > several reduction chunks (kReduceChunk = 2048)
     std::mt19937_64 rng(1);
     std::normal_distribution<double> g(0.0, 1e-3);
     for (double& x : m.particles.position) x += g(rng);

@@ -32,7 +32,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-PackingParams smallParams(const std::string& shape, long particles) {
+PackingParams smallParams(SampleShape shape, long particles) {
     PackingParams p;
     p.shape = shape;
     p.size = Vec3(6.0, 5.0, 4.0);
@@ -57,7 +57,7 @@ bool sameBytes(const Packing& a, const Packing& b) {
 // Same seed → identical bytes with 1 and 2 threads. 4500 particles: above the size from which the packer's
 // loops run in parallel (2 reduction chunks of 2048), so the threaded path is the one compared.
 TEST(Packing, SameSeedSameBytesForOneAndTwoThreads) {
-    const PackingParams p = smallParams("sphere", 4500);
+    const PackingParams p = smallParams(SampleShape::Sphere, 4500);
     const int saved = threadCount();
     setThreadCount(1);
     const Packing one = packRandom(p);
@@ -70,7 +70,7 @@ TEST(Packing, SameSeedSameBytesForOneAndTwoThreads) {
 }
 
 TEST(Packing, OtherSeedOtherPacking) {
-    PackingParams p = smallParams("box", 500);
+    PackingParams p = smallParams(SampleShape::Box, 500);
     const Packing a = packRandom(p);
     p.seed = 8;
     const Packing b = packRandom(p);
@@ -80,8 +80,9 @@ TEST(Packing, OtherSeedOtherPacking) {
 // Every shape: exactly N particles, all inside the walls (up to the overlap tolerance), Morton-ordered,
 // bonds canonical and sorted, every particle with at least min_bonds bonds, the coordination on target.
 TEST(Packing, CountsContainmentOrderAndBondsForEveryShape) {
-    for (const std::string shape : {"box", "cylinder", "sphere", "hemisphere"}) {
-        SCOPED_TRACE(shape);
+    for (const SampleShape shape :
+         {SampleShape::Box, SampleShape::Cylinder, SampleShape::Sphere, SampleShape::Hemisphere}) {
+        SCOPED_TRACE(std::string(nameOf(shape)));
         const PackingParams p = smallParams(shape, 800);
         const Packing k = packRandom(p);
         const SampleParams s = shapeParams(p);
@@ -129,11 +130,11 @@ TEST(Packing, CountsContainmentOrderAndBondsForEveryShape) {
 // the box bonds between two kept particles (counted independently: no bond lost inside, none added); cutting
 // the box by itself gives it back.
 TEST(Packing, CutKeepsTheParticlesInsideTheShapeWithTheirBonds) {
-    PackingParams box = smallParams("box", 1500);
+    PackingParams box = smallParams(SampleShape::Box, 1500);
     box.size = Vec3(6.0, 6.0, 4.0);
     const Packing source = packRandom(box);
     SampleParams hemisphere;
-    hemisphere.shape = "hemisphere";
+    hemisphere.shape = SampleShape::Hemisphere;
     hemisphere.radius = 2.5;
     const Vec3 offset(3.0, 3.0, 4.0);
     const Packing cut = cutPacking(source, hemisphere, offset);
@@ -166,7 +167,7 @@ TEST(Packing, CutKeepsTheParticlesInsideTheShapeWithTheirBonds) {
     }
     EXPECT_EQ(PairSet(cut.bond_pairs.begin(), cut.bond_pairs.end()), inside);
     EXPECT_TRUE(std::is_sorted(cut.bond_pairs.begin(), cut.bond_pairs.end()));
-    EXPECT_EQ(cut.params.shape, "hemisphere");
+    EXPECT_EQ(cut.params.shape, SampleShape::Hemisphere);
     EXPECT_EQ(cut.params.radius, 2.5);
     EXPECT_EQ(cut.params.particles, static_cast<long>(kept.size()));
     EXPECT_EQ(cut.params.seed, box.seed);
@@ -188,32 +189,30 @@ TEST(Packing, BadInputIsRejectedWithAClearMessage) {
             EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
         }
     };
-    PackingParams p = smallParams("box", 500);
+    PackingParams p = smallParams(SampleShape::Box, 500);
     p.particles = 0;
     rejects(p, "particles");
-    p = smallParams("box", 500);
+    p = smallParams(SampleShape::Box, 500);
     p.target_packing_fraction = 0.75;
     rejects(p, "target_packing_fraction");
     p.target_packing_fraction = 0.0;
     rejects(p, "target_packing_fraction");
-    p = smallParams("cone", 500);
-    rejects(p, "unknown shape");
-    p = smallParams("box", 500);
+    p = smallParams(SampleShape::Box, 500);
     p.size = Vec3(10.0, 10.0, 0.05); // a slab thinner than one particle
     rejects(p, "too small");
-    p = smallParams("sphere", 500);
+    p = smallParams(SampleShape::Sphere, 500);
     p.radius = -1.0;
     rejects(p, "radius");
-    p = smallParams("box", 500);
+    p = smallParams(SampleShape::Box, 500);
     p.radius_dispersion = 1.0;
     rejects(p, "radius_dispersion");
-    p = smallParams("box", 500);
+    p = smallParams(SampleShape::Box, 500);
     p.target_coordination = 2.0; // below min_bonds = 3
     rejects(p, "target_coordination");
-    p = smallParams("box", 500);
+    p = smallParams(SampleShape::Box, 500);
     p.overlap_tolerance = 0.0;
     rejects(p, "overlap_tolerance");
-    p = smallParams("box", 3);
+    p = smallParams(SampleShape::Box, 3);
     rejects(p, "min_bonds");
 }
 
@@ -230,20 +229,20 @@ TEST(Packing, UnrepresentableParticleSizesAreRejectedNamingTheKeys) {
             }
         }
     };
-    PackingParams p = smallParams("sphere", 10);
+    PackingParams p = smallParams(SampleShape::Sphere, 10);
     p.radius = 5e-324;
     rejects(p, {"radius = 4.94066e-324 um", "particles = 10", "mean radius 0 um"});
     EXPECT_THROW(packRandom(p), std::invalid_argument); // packRandom validates: no crash
     p.radius = 1e300;
     rejects(p, {"radius = 1e+300 um", "mean radius inf um"});
-    p = smallParams("box", 500);
+    p = smallParams(SampleShape::Box, 500);
     p.size = Vec3(1e-120, 1e-120, 1e-120);
     rejects(p, {"size = [1e-120, 1e-120, 1e-120] um", "particles = 500"});
-    p = smallParams("cylinder", 500);
+    p = smallParams(SampleShape::Cylinder, 500);
     p.height = 1e-320;
     rejects(p, {"radius = 3 um, height = 9.99989e-321 um"});
     // The count alone: 1e-100 um gives representable particles for 10 of them, not for 2^31 - 1.
-    p = smallParams("hemisphere", 10);
+    p = smallParams(SampleShape::Hemisphere, 10);
     p.radius = 1e-100;
     EXPECT_NO_THROW(validatePackingParams(p));
     p.particles = std::numeric_limits<std::int32_t>::max();
@@ -254,8 +253,8 @@ TEST(Packing, UnrepresentableParticleSizesAreRejectedNamingTheKeys) {
 TEST(Packing, TinySceneRadiusIsAnInputError) {
     Scene scene;
     scene.source_path = "tiny.toml";
-    scene.sample.lattice = "random";
-    scene.sample.shape = "sphere";
+    scene.sample.lattice = Lattice::Random;
+    scene.sample.shape = SampleShape::Sphere;
     scene.sample.radius = 5e-324;
     scene.sample.particles = 100;
     try {
@@ -270,7 +269,7 @@ TEST(Packing, TinySceneRadiusIsAnInputError) {
 
 // A target above random close packing cannot be met: a clear RuntimeFailure, quickly, never a hang.
 TEST(Packing, UnreachableTargetFailsInsteadOfHanging) {
-    PackingParams p = smallParams("box", 400);
+    PackingParams p = smallParams(SampleShape::Box, 400);
     p.target_packing_fraction = 0.72;
     p.max_iterations = 3000;
     try {
@@ -333,7 +332,7 @@ TEST(Packing, LooseParticleGetsItsMinimumBonds) {
 }
 
 TEST(Packing, MakeBondsUsesBondsAdd) {
-    const PackingParams p = smallParams("box", 300);
+    const PackingParams p = smallParams(SampleShape::Box, 300);
     const Packing k = packRandom(p);
     const Particles particles = Particles::spheres(k.sample.centres, k.sample.radii, 2.2);
     const MaterialParams material;
@@ -370,7 +369,7 @@ TEST(Packing, MeanRadiusAndMeanAxialStiffnessOfTheStores) {
 
 // Fabric normalisation: bonds along x, y and z in equal numbers → 0; all along z → 1.
 TEST(Packing, FabricAnisotropyNormalisation) {
-    PackingParams p = smallParams("box", 4);
+    PackingParams p = smallParams(SampleShape::Box, 4);
     const std::vector<Vec3> centres = {Vec3(1, 1, 1), Vec3(2, 1, 1), Vec3(1, 2, 1), Vec3(1, 1, 2)};
     const std::vector<double> radii(4, 0.5);
     const PackingReport iso = analysePacking(p, centres, radii, {{0, 1}, {0, 2}, {0, 3}});
@@ -387,21 +386,22 @@ TEST(Packing, FabricAnisotropyNormalisation) {
 TEST(Packing, InteriorVolumeOfEachShape) {
     SampleParams s;
     const double pi = std::numbers::pi;
-    for (const std::string shape : {"box", "cylinder", "sphere", "hemisphere"}) {
+    for (const SampleShape shape :
+         {SampleShape::Box, SampleShape::Cylinder, SampleShape::Sphere, SampleShape::Hemisphere}) {
         s.shape = shape;
-        EXPECT_NEAR(interiorVolume(s, 0.0), shapeVolume(s), 1e-12 * shapeVolume(s)) << shape;
+        EXPECT_NEAR(interiorVolume(s, 0.0), shapeVolume(s), 1e-12 * shapeVolume(s)) << nameOf(shape);
     }
-    s.shape = "box";
+    s.shape = SampleShape::Box;
     s.size = Vec3(10, 8, 6);
     EXPECT_NEAR(interiorVolume(s, 1.0), 8.0 * 6.0 * 4.0, 1e-12);
-    s.shape = "cylinder";
+    s.shape = SampleShape::Cylinder;
     s.radius = 5.0;
     s.height = 10.0;
     EXPECT_NEAR(interiorVolume(s, 1.0), pi * 16.0 * 8.0, 1e-12);
-    s.shape = "sphere";
+    s.shape = SampleShape::Sphere;
     EXPECT_NEAR(interiorVolume(s, 1.0), 4.0 / 3.0 * pi * 64.0, 1e-12);
     // Hemisphere, margin m: ball of radius R − m below z = −m, a cap of height R − 2m.
-    s.shape = "hemisphere";
+    s.shape = SampleShape::Hemisphere;
     const double rho = 4.0;
     const double h = 3.0;
     EXPECT_NEAR(interiorVolume(s, 1.0), pi * h * h * (3.0 * rho - h) / 3.0, 1e-12);
@@ -409,7 +409,7 @@ TEST(Packing, InteriorVolumeOfEachShape) {
 }
 
 TEST(Packing, ReportFormatsAsTextAndJson) {
-    const Packing k = packRandom(smallParams("cylinder", 400));
+    const Packing k = packRandom(smallParams(SampleShape::Cylinder, 400));
     const std::string text = formatPackingReport(k.report);
     EXPECT_NE(text.find("packing fraction"), std::string::npos);
     EXPECT_NE(text.find("fabric anisotropy"), std::string::npos);
@@ -462,7 +462,7 @@ protected:
 
     static const Packing& packing() {
         static const Packing k = [] {
-            PackingParams p = smallParams("hemisphere", 600);
+            PackingParams p = smallParams(SampleShape::Hemisphere, 600);
             p.seed = 0xFFFFFFFFFFFFFFF1ULL; // exercises the full uint64 range
             return packRandom(p);
         }();

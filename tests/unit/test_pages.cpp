@@ -44,10 +44,10 @@ TEST(Pages, SmallArraysStayWhereTheyAre) {
 /// 40 000 particles: several arrays above kHugePageMinBytes (the bonds' 3-vectors, ≈ 5.6 MB each).
 TEST(Pages, AModelStepsToTheSameBitsOnEitherKindOfPage) {
     auto run = [](PagePolicy policy) {
-        Model m = testing::fccModel("sphere", 8.0, 40000);
+        Model m = testing::fccModel(SampleShape::Sphere, 8.0, 40000);
         testing::agitate(m, 9, 1e-3);
         Scene s;
-        s.effects = {"elasticity"};
+        s.effects = {Effect::Elasticity};
         Effects fx = buildEffects(s, m);
         Step step = composeStep(m, fx);
         placeModelArrays(m, policy);

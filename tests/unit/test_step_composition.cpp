@@ -43,7 +43,7 @@ TEST(StepComposition, ElasticityAloneComposesOnlyItsPhasesAndAllocatesNoEffectSt
 
 TEST(StepComposition, EachEffectAddsItsPhases) {
     Scene s = base();
-    s.effects = {"elasticity", "damping"};
+    s.effects = {Effect::Elasticity, Effect::Damping};
     s.damping = {DampingKind::CundallLocal, 0.5};
     s.sets = {{"top", "top layer"}};
     s.boundaries = {{"top", BoundaryKind::Displacement, Vec3(0, 0, -0.01), 1.0}};
@@ -60,7 +60,7 @@ TEST(StepComposition, EachEffectAddsItsPhases) {
     EXPECT_FALSE(has(l, "damping.cundall"));
     EXPECT_FALSE(has(l, "bonds.beam_loads"));
 
-    s.effects = {"elasticity", "densification"};
+    s.effects = {Effect::Elasticity, Effect::Densification};
     Model d = buildModel(s, 1.0);
     const Effects dfx = buildEffects(s, d);
     l = labels(composeStep(d, dfx));
@@ -70,7 +70,7 @@ TEST(StepComposition, EachEffectAddsItsPhases) {
 
     // The indenter: its move phase right after the drift, its contact phase right after the gather (the
     // gather overwrites the forces, the damping acts on the total), and its state only with the effect.
-    s.effects = {"elasticity", "indenter"};
+    s.effects = {Effect::Elasticity, Effect::Indenter};
     s.stages = {StageParams{}};
     s.boundaries.clear();
     Model t = buildModel(s, 1.0);
@@ -97,8 +97,8 @@ TEST(Sets, DomeOfAHemisphereIsItsCurvedFaceOnly) {
     // holding the indented surface from below. Under the centre of the flat face (r < 0.6 R_s, z > −0.5 R_s:
     // at least 0.3 R_s from the curved face) no particle may be clamped.
     Scene s;
-    s.sample.lattice = "random";
-    s.sample.shape = "hemisphere";
+    s.sample.lattice = Lattice::Random;
+    s.sample.shape = SampleShape::Hemisphere;
     s.sample.radius = 4.0;
     s.sample.particles = 2000;
     s.sets = {{"dome", "dome"}, {"surface", "surface"}};

@@ -25,8 +25,8 @@ namespace fs = std::filesystem;
 /// A 6 × 6 × 6 SC cube of spacing 1 µm with its neighbours bonded: 216 particles.
 Model scCube() {
     Scene s;
-    s.sample.lattice = "sc";
-    s.sample.shape = "box";
+    s.sample.lattice = Lattice::Sc;
+    s.sample.shape = SampleShape::Box;
     s.sample.size = Vec3(6.0, 6.0, 6.0);
     s.sample.particles = 216; // spacing a = (V/N)^(1/3) = 1 µm
     s.source_path = "<test>";

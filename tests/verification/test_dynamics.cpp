@@ -18,7 +18,7 @@
 namespace vitrum {
 namespace {
 
-Scene latticeScene(const std::string& lattice, const std::string& shape, long particles) {
+Scene latticeScene(Lattice lattice, SampleShape shape, long particles) {
     Scene s;
     s.sample.lattice = lattice;
     s.sample.shape = shape;
@@ -41,7 +41,7 @@ struct EnergyRecord {
 /// Runs an undamped 125-particle SC cube with random velocities for `periods` × 1000 critical steps at
 /// Δt = ratio·Δt_crit, sampling the energy at the same physical times whatever the ratio.
 EnergyRecord energyRecord(double ratio, long coarse_steps, double speed) {
-    const Scene scene = latticeScene("sc", "box", 125);
+    const Scene scene = latticeScene(Lattice::Sc, SampleShape::Box, 125);
     Model m = buildModel(scene, 1.0);
     agitate(m, 42, speed);
     Effects fx = buildEffects(scene, m);
@@ -110,7 +110,7 @@ TEST(Integrator, UndampedLatticeConservesEnergyOver1e5Steps) {
 }
 
 TEST(Integrator, FreeSpinningParticleKeepsAngularMomentumAndRotatesExactly) {
-    Scene scene = latticeScene("sc", "box", 8);
+    Scene scene = latticeScene(Lattice::Sc, SampleShape::Box, 8);
     Model m = buildModel(scene, 1.0);
     // One free particle: take particle 0 alone by breaking all bonds.
     std::fill(m.bonds.broken.begin(), m.bonds.broken.end(), 1);
@@ -136,7 +136,7 @@ TEST(Integrator, SpinningBondedClusterConservesAngularMomentum) {
     // A free FCC ball spinning and vibrating: kicks change L by Δt/2 Σ(x × F + T) = 0 because each beam's
     // moment balance is exact, drifts change it by Σ Δt v × m v = 0, so L is conserved to rounding. We allow
     // 1e-12 relative after 2·10⁴ steps (rounding of ~10⁵ additions per step at 1e-16 each, partly cancelling).
-    const Scene scene = latticeScene("fcc", "sphere", 200);
+    const Scene scene = latticeScene(Lattice::Fcc, SampleShape::Sphere, 200);
     Model m = buildModel(scene, 1.0);
     agitate(m, 9, 1e-3);
     const Vec3 spin(0.0, 0.02, 0.01); // rad/ns, rigid rotation added on top
@@ -161,7 +161,7 @@ TEST(Integrator, SpinningBondedClusterConservesAngularMomentum) {
 
 /// Runs `steps` steps at Δt = factor × Δt_crit and returns true if the watchdog tripped.
 bool blowsUp(double factor, long steps) {
-    const Scene scene = latticeScene("fcc", "box", 500);
+    const Scene scene = latticeScene(Lattice::Fcc, SampleShape::Box, 500);
     Model m = buildModel(scene, 1.0);
     agitate(m, 5, 1e-4);
     Effects fx = buildEffects(scene, m);
@@ -195,7 +195,7 @@ TEST(TimeStep, EstimateIsStableAndTwiceItBlowsUpDetected) {
 TEST(TimeStep, ChainBoundIsExact) {
     // For a uniform chain of axial springs, ω_max = 2√(k/m) and the Gershgorin bound is exact; with
     // beams the bending rows can only raise it. Check Δt_crit ≤ √(m/k) (= 2/ω_max of the axial chain).
-    Scene scene = latticeScene("sc", "box", 10);
+    Scene scene = latticeScene(Lattice::Sc, SampleShape::Box, 10);
     scene.sample.size = Vec3(1, 1, 10);
     Model m = buildModel(scene, 1.0);
     ASSERT_EQ(m.particles.size(), 10u);

@@ -78,7 +78,7 @@ duration = 1
         }
     }
     Scene relax = s;
-    relax.effects = {"elasticity", "damping"};
+    relax.effects = {Effect::Elasticity, Effect::Damping};
     relax.damping = {DampingKind::CundallLocal, 0.7};
     Effects fx = buildEffects(relax, m);
     Step step = composeStep(m, fx);
@@ -130,11 +130,11 @@ TEST(FractureTension, ScBarFailsAtThreeTimesTheHydrostaticStrengthAcrossAPerpend
     // Every non-grip particle has the same stress, so the first release is decided by the loading wave:
     // the bar separates across a layer, a plane perpendicular to the load.
     Scene s;
-    s.sample.lattice = "sc";
-    s.sample.shape = "box";
+    s.sample.lattice = Lattice::Sc;
+    s.sample.shape = SampleShape::Box;
     s.sample.size = Vec3(3.0, 3.0, 8.0);
     s.sample.particles = 6 * 6 * 16; // a = 0.5 µm
-    s.effects = {"elasticity", "fracture", "contact", "damping"};
+    s.effects = {Effect::Elasticity, Effect::Fracture, Effect::Contact, Effect::Damping};
     s.damping = {DampingKind::CundallLocal, 0.3};
     s.fracture.hydrostatic_strength = 0.067;
     s.fracture.packing_fraction = std::numbers::pi / 6.0;
@@ -219,7 +219,7 @@ double collide(double r1, double r2, double restitution, double steps_per_contac
     m.particles = Particles::spheres({Vec3(0, 0, 0), Vec3(r1 + r2 + 0.01, 0, 0)}, {r1, r2}, 2.2);
     m.incidence = Incidence::build(2, m.bonds);
     Scene s;
-    s.effects = {"elasticity", "contact"};
+    s.effects = {Effect::Elasticity, Effect::Contact};
     s.contact.normal_stiffness = 10.0; // mN/µm
     s.contact.restitution = restitution;
     s.source_path = "<test>";

@@ -27,8 +27,8 @@ struct ScBar {
 ScBar scBar(int nx, int ny, int nz) {
     ScBar b;
     Scene& s = b.scene;
-    s.sample.lattice = "sc";
-    s.sample.shape = "box";
+    s.sample.lattice = Lattice::Sc;
+    s.sample.shape = SampleShape::Box;
     s.sample.size = Vec3(nx, ny, nz); // a = 1 µm, R = 0.5 µm
     s.sample.particles = static_cast<long>(nx) * ny * nz;
     s.source_path = "<test>";
@@ -97,7 +97,7 @@ TEST(LatticeElasticity, QuasiStaticCompressionGivesKOverA) {
     const double delta = -1e-3 * gauge;
     s.boundaries = {{"base", BoundaryKind::Fixed, Vec3::Zero(), 0.0},
                     {"top", BoundaryKind::Displacement, Vec3(0, 0, delta), 20.0}};
-    s.effects = {"elasticity", "damping"};
+    s.effects = {Effect::Elasticity, Effect::Damping};
     s.damping = {DampingKind::CundallLocal, 0.7};
     Model m = buildModel(s, 1.0);
     Effects fx = buildEffects(s, m);

@@ -95,7 +95,7 @@ double anisotropyBound(long bonds) {
 
 TEST(PackingQuality, BoxOf5000ReachesRandomClosePackingWithTargetCoordination) {
     PackingParams p;
-    p.shape = "box";
+    p.shape = SampleShape::Box;
     p.size = Vec3(10.0, 10.0, 10.0);
     p.particles = 5000;
     p.seed = 2012;
@@ -121,7 +121,7 @@ TEST(PackingQuality, BoxOf5000ReachesRandomClosePackingWithTargetCoordination) {
 // whole-sample fabric but not in the interior one.
 TEST(PackingQuality, HemisphereBulkIsDenseAndIsotropic) {
     PackingParams p;
-    p.shape = "hemisphere";
+    p.shape = SampleShape::Hemisphere;
     p.radius = 12.0;
     p.particles = 5000;
     p.seed = 2013;
