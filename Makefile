@@ -20,7 +20,7 @@ build: deps
 	cmake --build $(BUILD) -j $(JOBS)
 
 deps:
-	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
+	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q ' ok installed' || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "vitrum: installing missing Debian packages:" $$missing; \
 	  if [ "$$(id -u)" != 0 ]; then echo "vitrum: need root to install packages (or install them yourself)"; exit 2; fi; \

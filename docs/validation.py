@@ -153,7 +153,7 @@ def elastic():
              r["seeds"], f"{float(r['max_kinetic_to_strain']):.1e}"] for n, r in sorted(sens.items())]
     out.append(table(["particles", "E (GPa)", "ν", "end-displacement modulus (GPa)", "seeds", "max KE/U"], rows))
     out.append("\nProduced by: `build/vitrum run examples/tensile-cylinder.toml` (Table 1's micro-parameters, "
-               "the scene's own) and the same with `--set 'material.calibration=\"examples/calibration/silica.toml\"'` "
+               "the scene's own) and the same with `--set 'material.calibration=\"calibration/silica.toml\"'` "
                f"(3–8 s on one thread; {link(FIG + '/tensile-cylinder/summary-table1.json')}, "
                f"{link(FIG + '/tensile-cylinder/summary-calibrated.json')}); the calibration file's header command, `build/vitrum calibrate elastic "
                "--radius-ratios 0.5,0.6,0.7,0.8,0.9 --beam-young 300,500 --seeds 1,2,3 --out out/calibration "

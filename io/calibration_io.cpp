@@ -1,6 +1,9 @@
 #include "io/calibration_io.hpp"
 
 #include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <limits>
 #include <sstream>
 
 #include <toml++/toml.h>
@@ -80,6 +83,11 @@ std::array<double, 3> requireTriple(const toml::table& root, const std::string& 
 } // namespace
 
 CalibrationFile readCalibration(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        throw InputError("cannot read calibration file '" + path + "': " +
+                         (std::filesystem::exists(path, ec) ? "not a regular file" : "no such file"));
+    }
     toml::table root;
     try {
         root = toml::parse_file(path);
@@ -107,9 +115,23 @@ CalibrationFile readCalibration(const std::string& path) {
     f.fit.nu_max = requireNumber(root, "validity.poisson_ratio_max", path);
     f.fit.radius_ratio_min = requireNumber(root, "validity.radius_ratio_min", path);
     f.fit.radius_ratio_max = requireNumber(root, "validity.radius_ratio_max", path);
-    if (!(f.micro.beam_young > 0.0) || !(f.micro.radius_ratio > 0.0)) {
-        throw InputError(path + ": calibration file: [micro] beam_young_modulus and beam_radius_ratio must be > 0");
-    }
+    // The ranges the scene's own keys get ([material]: io/scene/sections_sample.cpp).
+    auto within = [&](double value, const char* key, double lo, double hi, bool lo_open, bool hi_open,
+                      const char* expected) {
+        if (!std::isfinite(value) || (lo_open ? !(value > lo) : !(value >= lo)) ||
+            (hi_open ? !(value < hi) : !(value <= hi))) {
+            std::ostringstream msg;
+            msg << path << ": calibration file: key '" << key << "': expected " << expected << ", got " << value;
+            throw InputError(msg.str());
+        }
+    };
+    constexpr double kHuge = std::numeric_limits<double>::infinity();
+    within(f.micro.beam_young, "micro.beam_young_modulus", 0.0, kHuge, true, true, "a finite number > 0 (GPa)");
+    within(f.micro.radius_ratio, "micro.beam_radius_ratio", 0.0, 2.0, true, false, "a number in (0, 2]");
+    within(f.beam_poisson, "micro.beam_poisson_ratio", -1.0, 0.5, true, true, "a number in (-1, 0.5)");
+    within(f.target_young, "target.young_modulus", 0.0, kHuge, true, true, "a finite number > 0 (GPa)");
+    within(f.target_poisson, "target.poisson_ratio", -1.0, 0.5, true, true, "a number in (-1, 0.5)");
+    within(f.density, "target.density", 0.0, kHuge, true, true, "a finite number > 0 (kg/m^3)");
     if (root.contains("densification")) {
         DensificationParameters d;
         d.yield_stress = requireNumber(root, "densification.yield_stress", path);

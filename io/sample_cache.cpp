@@ -28,7 +28,7 @@ SampleSource loadOrBuildSample(const Scene& scene) {
     if (scene.sample.lattice != Lattice::Random) {
         if (!path.empty()) {
             throw InputError(
-                scene.source_path + ": key 'sample.file': a packing cache needs lattice = \"random\" (a " +
+                scene.where("sample.file") + ": a packing cache needs lattice = \"random\" (a " +
                 std::string(nameOf(scene.sample.lattice)) + " lattice is rebuilt exactly in no time)");
         }
         return {buildSample(scene), "lattice", std::nullopt};
@@ -39,7 +39,9 @@ SampleSource loadOrBuildSample(const Scene& scene) {
         try {
             cut = cutPacking(loadPacking(s.cut_from), s, s.cut_offset);
         } catch (const std::invalid_argument& e) {
-            throw InputError(scene.source_path + ": key 'sample.cut_from': " + e.what());
+            throw InputError(scene.where("sample.cut_from") + ": " + e.what());
+        } catch (const InputError& e) { // the packing file itself: missing, not HDF5, truncated, inconsistent
+            throw InputError(scene.where("sample.cut_from") + ": " + e.what());
         }
         std::ostringstream origin;
         origin << "cut from " << s.cut_from << " at offset (" << s.cut_offset.x() << ", " << s.cut_offset.y()
@@ -48,7 +50,12 @@ SampleSource loadOrBuildSample(const Scene& scene) {
     }
     const PackingParams wanted = packingParamsFor(scene.sample, scene.seed);
     if (!path.empty() && fs::exists(path)) {
-        Packing cached = loadPacking(path);
+        Packing cached;
+        try {
+            cached = loadPacking(path);
+        } catch (const InputError& e) {
+            throw InputError(scene.where("sample.file") + ": " + e.what());
+        }
         const nlohmann::ordered_json a = packingParamsJson(cached.params);
         const nlohmann::ordered_json b = packingParamsJson(wanted);
         if (a != b) {
@@ -59,7 +66,7 @@ SampleSource loadOrBuildSample(const Scene& scene) {
                             (a.contains(it.key()) ? a[it.key()].dump() : "missing") + ", scene " + it.value().dump() + ")";
                 }
             }
-            throw InputError(scene.source_path + ": key 'sample.file': the packing cache " + path +
+            throw InputError(scene.where("sample.file") + ": the packing cache " + path +
                              " was made with other parameters: " + diff +
                              "; delete it to re-pack, or point sample.file elsewhere");
         }
@@ -69,7 +76,7 @@ SampleSource loadOrBuildSample(const Scene& scene) {
     try {
         packing = packRandom(wanted);
     } catch (const std::invalid_argument& e) {
-        throw InputError(scene.source_path + ": [sample]: " + e.what());
+        throwPackingRefusal(scene, e.what());
     }
     if (path.empty()) {
         return {{std::move(packing.sample), std::move(packing.bond_pairs)}, "packed", packing.report};

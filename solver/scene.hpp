@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -389,6 +390,19 @@ struct Scene {
     MeasureParams measure;
     OutputParams output;
     std::string source_path; ///< the scene file it came from
+    /// Where each key given was written ("scene.toml:12:3" or "--set key=value"), by its dotted name, so that an
+    /// error found after reading (a packing file, a selector, the packer's counts) names the line too. Not
+    /// part of the scene's value: two scenes read from different texts compare equal.
+    struct KeyLocations {
+        std::map<std::string, std::string> at;
+        bool operator==(const KeyLocations&) const { return true; }
+    } locations;
+
+    /// "file:line:col: key 'KEY'" where the key was given, else "file: key 'KEY'": the start of a message.
+    std::string where(const std::string& key) const {
+        const auto it = locations.at.find(key);
+        return (it != locations.at.end() ? it->second : source_path) + ": key '" + key + "'";
+    }
 
     bool hasEffect(Effect effect) const {
         for (const Effect e : effects) {

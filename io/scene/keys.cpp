@@ -239,7 +239,10 @@ SceneSource::inFileOrder(const toml::table& table) const {
 
 std::string SceneSource::relativeToScene(const std::string& path, const toml::node& node) const {
     std::filesystem::path file(path);
-    if (file.is_relative() && !isOverride(node.source())) {
+    // One rule for the file and for --set: a relative path is relative to the scene's directory, so a command
+    // means the same from any working directory.
+    (void)node;
+    if (file.is_relative()) {
         file = std::filesystem::path(name_).parent_path() / file;
     }
     return file.string();

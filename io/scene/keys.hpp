@@ -110,8 +110,7 @@ public:
     [[noreturn]] void fail(const toml::source_region& region, const std::string& message) const;
     /// Entries in the order the file gives them (toml::table is sorted by key), overrides last.
     std::vector<std::pair<const toml::key*, const toml::node*>> inFileOrder(const toml::table& table) const;
-    /// A path given in the scene: relative to the scene file's directory, unless an override gave it (then
-    /// relative to the working directory, where the command line was typed).
+    /// A path given in the scene or by a --set override: relative to the scene file's directory.
     std::string relativeToScene(const std::string& path, const toml::node& node) const;
 
 private:
@@ -515,6 +514,7 @@ void readKeys(const TableReader& table, const std::vector<Key<S>>& keys, S& s, S
             table.fail(*node, "key '" + table.dotted(k.name) + "': " + k.refusal(s, *node));
         }
         k.read(k, KeyIn{table, reading, *node}, s);
+        reading.scene.locations.at[table.dotted(k.name)] = table.source().where(node->source());
     }
 }
 

@@ -67,7 +67,8 @@ void applyOverride(toml::table& root, const std::string& assignment) {
             throw InputError(label + ": key '" + key +
                              "': expected 'name[index].key=value' for an element of an array of tables");
         }
-        const std::size_t index = std::stoul(index_text);
+        // More digits than any array can have: no such element (stoul would overflow).
+        const std::size_t index = index_text.size() > 9 ? std::size_t(-1) : std::stoul(index_text);
         toml::array* array = root[name].as_array();
         if (!array || index >= array->size() || !array->get(index)->is_table()) {
             throw InputError(label + ": key '" + key + "': the scene has no [[" + name + "]] number " +

@@ -306,6 +306,7 @@ Section setsSection() {
                 sets.mismatch(*node, name, "a selector string (see solver/model/sets.hpp)");
             }
             r.scene.sets.push_back({name, node->as_string()->get()});
+            r.scene.locations.at["sets." + name] = r.source.where(node->source());
         }
     };
     s.write = [](const Scene& scene, const Units&, std::vector<std::string>& blocks) {

@@ -58,12 +58,26 @@ double usableBytes() {
 
 } // namespace
 
+void throwPackingRefusal(const Scene& scene, const std::string& what) {
+    // "packing: KEY = ..." names the key first.
+    std::string key = "particles";
+    const std::string prefix = "packing: ";
+    if (what.rfind(prefix, 0) == 0) {
+        const std::size_t end = what.find_first_of(" =", prefix.size());
+        key = what.substr(prefix.size(), end == std::string::npos ? std::string::npos : end - prefix.size());
+    }
+    throw InputError(scene.where("sample." + key) + ": " + what);
+}
+
 void checkSampleMemory(const Scene& scene) {
+    if (!scene.sample.cut_from.empty()) {
+        return; // the source packing's size decides, checked as it is read
+    }
     const double needed = static_cast<double>(scene.sample.particles) * kPeakBytesPerParticle;
     const double usable = usableBytes();
     if (usable > 0.0 && needed > usable) {
         std::ostringstream msg;
-        msg << scene.source_path << ": key 'sample.particles': " << scene.sample.particles << " particles need about "
+        msg << scene.where("sample.particles") << ": " << scene.sample.particles << " particles need about "
             << needed / (1024.0 * 1024.0 * 1024.0) << " GiB (about " << kPeakBytesPerParticle / 1024.0
             << " KiB each at the peak of a run), more than the " << usable / (1024.0 * 1024.0 * 1024.0)
             << " GiB this process may use; expected at most " << static_cast<long long>(usable / kPeakBytesPerParticle)
@@ -86,7 +100,7 @@ BondedSample buildSample(const Scene& scene) {
         try {
             packing = packRandom(params);
         } catch (const std::invalid_argument& e) {
-            throw InputError(scene.source_path + ": [sample]: " + e.what());
+            throwPackingRefusal(scene, e.what());
         }
         out.sample = std::move(packing.sample);
         out.pairs = std::move(packing.bond_pairs);
@@ -143,11 +157,11 @@ Model buildModel(const Scene& scene, double length_factor, const BondedSample& b
         try {
             clauses = parseSelector(s.where);
         } catch (const std::invalid_argument& e) {
-            throw InputError(scene.source_path + ": key 'sets." + s.name + "': " + e.what());
+            throw InputError(scene.where("sets." + s.name) + ": " + e.what());
         }
         model.sets.push_back({s.name, selectParticles(clauses, model.particles, length_factor)});
         if (model.sets.back().members.empty()) {
-            throw InputError(scene.source_path + ": key 'sets." + s.name + "': selector '" + s.where +
+            throw InputError(scene.where("sets." + s.name) + ": selector '" + s.where +
                              "' matches no particle; expected at least one");
         }
     }

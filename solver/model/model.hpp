@@ -49,6 +49,10 @@ struct BondedSample {
     std::vector<std::pair<std::int32_t, std::int32_t>> pairs;
 };
 
+/// The packer's refusal `what` ("packing: particles = 2 ...") as an InputError located at the [sample] key it
+/// names (file:line:col where the scene gave it).
+[[noreturn]] void throwPackingRefusal(const Scene& scene, const std::string& what);
+
 /// Refuses (InputError naming sample.particles, with the estimate) a sample whose particles cannot fit in the
 /// memory this process may use, before anything is allocated.
 void checkSampleMemory(const Scene& scene);

@@ -52,8 +52,9 @@ TimeStep planTimeStep(const Scene& scene, Model& model, Effects& effects) {
         msg << scene.source_path << ": keys 'time.duration' and 'time.safety_ratio': " << scene.time.duration
             << " ns at " << scene.time.safety_ratio << " x dt_crit (" << ts.critical << " ns) would take " << wanted
             << " steps; expected at most " << kMaxSteps
-            << " (shorten time.duration, raise time.safety_ratio, or soften the stiffest contact: "
-               "indenter.stiffness, contact.normal_stiffness)";
+            << " (shorten time.duration or raise time.safety_ratio; or check what makes the step so small: the "
+               "stiffest contact, indenter.stiffness, contact.normal_stiffness, or the lightest particle, "
+               "material.density)";
         throw InputError(msg.str());
     }
     ts.steps = std::max(1L, static_cast<long>(std::ceil(wanted)));

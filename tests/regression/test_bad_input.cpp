@@ -46,10 +46,10 @@ const Malformed kCases[] = {
     // Particles of radius 0 (the shape's volume underflows): refused before the packer's grid (it crashed).
     {"RandomPackingOfATinySphere",
      "[sample]\nlattice = \"random\"\nshape = \"sphere\"\nradius = 5e-324\n" BASE_TIME,
-     {"@F: [sample]: packing: radius = 4.94066e-324 um and particles = 1000", "mean radius 0 um"}},
+     {"@F:4:10: key 'sample.radius'", "packing: radius = 4.94066e-324 um and particles = 1000", "mean radius 0 um"}},
     {"RandomPackingOfATinyBox",
      "[sample]\nlattice = \"random\"\nsize = [1e-120, 1e-120, 1e-120]\n" BASE_TIME,
-     {"@F: [sample]: packing: size = [1e-120, 1e-120, 1e-120] um and particles = 1000"}},
+     {"@F:3:8: key 'sample.size'", "packing: size = [1e-120, 1e-120, 1e-120] um and particles = 1000"}},
     {"ImpossiblePackingFraction", "[sample]\nlattice = \"random\"\npacking_fraction = 0.95\n" BASE_TIME,
      {"@F:3:", "sample.packing_fraction"}},
     {"ImpossibleCoordination", "[sample]\nlattice = \"random\"\ncoordination = 40.0\n" BASE_TIME,
@@ -90,6 +90,16 @@ const Malformed kCases[] = {
     {"OverrideWithoutEquals", BASE_TIME, {"sample.particles"}, "--set sample.particles"},
     {"MissingSceneFile", "", {"@F"}},
     {"UnwritableOutputDirectory", BASE_TIME, {"cannot create output directory"}, "--out /proc/vitrum-cannot-write"},
+    // Issue 28: problems found after reading the scene name the line and the key too.
+    {"SelectorWithoutANumberNamesItsLine", "[sets]\na = \"z >\"\n" BASE_TIME, {"@F:2:", "sets.a", "cannot read"}},
+    {"PackerCountNamesItsLine", "[sample]\nlattice = \"random\"\nparticles = 2\n" BASE_TIME,
+     {"@F:3:", "sample.particles", "min_bonds"}},
+    {"PackingFileThatIsADirectory", "[sample]\nlattice = \"random\"\nparticles = 50\nfile = \"/\"\n" BASE_TIME,
+     {"@F:4:", "sample.file", "not a regular file"}},
+    {"CalibrationFileThatIsADirectory", "[material]\ncalibration = \"/\"\n" BASE_TIME,
+     {"@F:2:", "material.calibration", "not a regular file"}},
+    {"ArrayIndexBeyondAnyArray", BASE_TIME, {"load[18446744073709551616].pressure", "no [[load]] number"},
+     "--set 'load[18446744073709551616].pressure=1'"},
 };
 
 class BadInput : public ::testing::TestWithParam<Malformed> {};

@@ -262,7 +262,7 @@ TEST(Packing, TinySceneRadiusIsAnInputError) {
         FAIL() << "a 5e-324 um sphere was packed";
     } catch (const InputError& e) {
         const std::string what = e.what();
-        EXPECT_NE(what.find("tiny.toml: [sample]: packing: radius = 4.94066e-324 um"), std::string::npos)
+        EXPECT_NE(what.find("tiny.toml: key 'sample.radius': packing: radius = 4.94066e-324 um"), std::string::npos)
             << what;
     }
 }

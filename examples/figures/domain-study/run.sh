@@ -22,7 +22,7 @@ mkdir -p "$out"
 packing=packings/box-30um-150760-seed$seed.h5
 box=(--set scene.seed=$seed --set "sample.file=\"$packing\"")
 hemisphere="lattice=\"random\", shape=\"hemisphere\", radius=12.0"
-cut=(--set "sample={$hemisphere, cut_from=\"examples/$packing\", cut_offset=[15.0, 15.0, 30.0]}")
+cut=(--set "sample={$hemisphere, cut_from=\"$packing\", cut_offset=[15.0, 15.0, 30.0]}")
 fast=(--set 'stage[0].speed=0.1' --set 'stage[2].speed=0.1' --set 'stage[1].duration=5.0'
       --set time.duration=200.0)
 rest=(--set 'stage[3].duration=60.0' --set 'stage[3].kinetic_tolerance=1e-12')
