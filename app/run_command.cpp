@@ -67,7 +67,7 @@ void checkSceneName(const Scene& scene) {
     const std::string& name = scene.name;
     if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos ||
         name.find('\0') != std::string::npos || name.size() > 255) {
-        throw InputError(scene.source_path + ": key 'scene.name': expected a plain file name (1 to 255 characters, "
+        throw InputError(scene.where("scene.name") + ": expected a plain file name (1 to 255 characters, "
                          "no '/', not '.' or '..'), got \"" + name.substr(0, 80) + (name.size() > 80 ? "..." : "") +
                          "\"");
     }

@@ -34,6 +34,9 @@ const Malformed kCases[] = {
     {"UnknownTimeKey", BASE_TIME "durration = 3\n", {"@F:3:", "time.durration"}},
     {"WrongTypeParticles", "[sample]\nparticles = \"many\"\n" BASE_TIME, {"@F:2:", "sample.particles", "integer"}},
     {"WrongTypeName", "[scene]\nname = 3\n" BASE_TIME, {"@F:2:", "scene.name", "string"}},
+    // Issue 28 item 9: a name becomes the output's file names, so it is a plain file name.
+    {"SceneNameIsAPath", "[scene]\nname = \"../../x\"\n" BASE_TIME, {"@F:2:8: key 'scene.name'", "plain file name"}},
+    {"SceneNameEmpty", "[scene]\nname = \"\"\n" BASE_TIME, {"@F:2:8: key 'scene.name'", "plain file name"}},
     {"WrongTypeSize", "[sample]\nsize = 3.0\n" BASE_TIME, {"@F:2:", "sample.size"}},
     {"SizeWithTwoComponents", "[sample]\nsize = [1.0, 2.0]\n" BASE_TIME, {"@F:2:", "sample.size"}},
     {"UnknownLengthUnit", "[units]\nlength = \"furlong\"\n" BASE_TIME, {"@F:2:", "units.length", "um"}},
