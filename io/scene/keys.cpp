@@ -237,11 +237,10 @@ SceneSource::inFileOrder(const toml::table& table) const {
     return entries;
 }
 
-std::string SceneSource::relativeToScene(const std::string& path, const toml::node& node) const {
+std::string SceneSource::relativeToScene(const std::string& path) const {
     std::filesystem::path file(path);
     // One rule for the file and for --set: a relative path is relative to the scene's directory, so a command
     // means the same from any working directory.
-    (void)node;
     if (file.is_relative()) {
         file = std::filesystem::path(name_).parent_path() / file;
     }

@@ -111,7 +111,7 @@ public:
     /// Entries in the order the file gives them (toml::table is sorted by key), overrides last.
     std::vector<std::pair<const toml::key*, const toml::node*>> inFileOrder(const toml::table& table) const;
     /// A path given in the scene or by a --set override: relative to the scene file's directory.
-    std::string relativeToScene(const std::string& path, const toml::node& node) const;
+    std::string relativeToScene(const std::string& path) const;
 
 private:
     std::string name_;

@@ -82,7 +82,7 @@ void readDensification(SceneReading& r) {
     std::optional<CalibrationFile> own;
     if (const toml::node* node = table.find("calibration")) {
         const std::string file =
-            std::filesystem::path(table.source().relativeToScene(*table.string("calibration"), *node))
+            std::filesystem::path(table.source().relativeToScene(*table.string("calibration")))
                 .lexically_normal()
                 .string();
         try {

@@ -129,7 +129,7 @@ const std::vector<Key<SampleParams>>& sampleKeys() {
             [](const Key<S>& self, const KeyIn& in, S& s) {
                 const std::string given = *in.table.string(self.name);
                 // Absolute, so that the resolved scene written beside the results reads back the same file.
-                s.cut_from = std::filesystem::absolute(in.table.source().relativeToScene(given, in.node))
+                s.cut_from = std::filesystem::absolute(in.table.source().relativeToScene(given))
                                  .lexically_normal()
                                  .string();
             },
@@ -241,7 +241,7 @@ void readMaterial(SceneReading& r) {
         }
     }
     const std::string file =
-        std::filesystem::path(source.relativeToScene(*table.string("calibration"), *node))
+        std::filesystem::path(source.relativeToScene(*table.string("calibration")))
             .lexically_normal()
             .string();
     CalibrationFile c;
