@@ -1,14 +1,14 @@
-// The beam pass W bonds at a time in SIMD lanes (W = 2: SSE2, W = 4: AVX2, W = 8: AVX-512F), kinematics,
-// spring-slider check, beam law (paper eqs 1–4, kernels/beam.hpp), bond-viscous dashpots and the store, all
-// lane-wise.
+// The beam pass W bonds at a time in SIMD lanes (W = 2: SSE2, W = 4: AVX2, W = 8: AVX-512F): the loops,
+// gathers and stores of the lane back-end. The physics is not here: the kinematics, the beam law (paper
+// eqs 1–4), the slider's check and the dashpots are the templates of kernels/beam.hpp and
+// kernels/densification.hpp instantiated on lane vectors (kernels/law.hpp), the same code the scalar path
+// runs on doubles.
 //
 // Lanes are GCC vector-extension doubles: every operation is element-wise IEEE (no FMA: the build has none,
 // the AVX2 translation unit enables "avx2" only and the AVX-512 one has fp-contract off), so a lane computes
-// exactly what a scalar evaluation of the same expression in the same order would. The lane expressions below
-// are written in the order of the scalar code they mirror (EulerBernoulliBeam::make and ::evaluate, densify
-// and the dashpots), which makes the W = 2, 4 and 8 passes bit-identical to each other (tested:
-// BeamLanes.LaneWidthsAreBitIdentical), so which one a machine dispatches to never changes a result or a
-// state_sha256.
+// exactly what the scalar instantiation computes, bit for bit (BeamLanes.LanePathIsTheScalarLawBitForBit),
+// and the W = 2, 4 and 8 passes are bit-identical to each other (BeamLanes.LaneWidthsAreBitIdentical): which
+// one a machine dispatches to never changes a result or a state_sha256.
 //
 // A bond leaves the lanes for the scalar path (decided per bond, never by the thread split) when it is
 // broken (zero loads), when one of its angles lies beyond the series range of beam.hpp (full scalar
@@ -18,7 +18,10 @@
 // Internal to the kernels: included only by bond_kernels.cpp (W = 2), bond_kernels_avx2.cpp (W = 4, under
 // `#pragma GCC target("avx2")`) and bond_kernels_avx512.cpp (W = 8, `target("avx512f")`). Everything here has
 // internal linkage on purpose: the wide units' copies of these functions must never be merged by the linker
-// with the baseline unit's (a machine without AVX2 or AVX-512 would then execute their code).
+// with the baseline unit's (a machine without AVX2 or AVX-512 would then execute their code). The law
+// templates keep external linkage safely: they are defined under the baseline target (the wide units include
+// their headers before the target pragma) and always inlined, so their code takes the caller's target and
+// any copy the linker might merge is baseline code.
 #pragma once
 
 #include <algorithm>
@@ -36,6 +39,12 @@
 
 namespace vitrum {
 namespace {
+
+// The law functions once more, compiled for this unit's instruction set (kernels/law.hpp says why); calls
+// below go to law::…, which from inside this anonymous namespace names this copy.
+namespace law {
+#include "kernels/laws.inl"
+} // namespace law
 
 // ---- lane types ---------------------------------------------------------------------------------------------
 template <int W>
@@ -57,60 +66,9 @@ struct Lanes<8> {
 };
 
 template <int W>
-struct Vec3L {
-    typename Lanes<W>::Real x, y, z;
-};
+using Vec3L = Vec3T<typename Lanes<W>::Real>;
 template <int W>
-struct QuatL {
-    typename Lanes<W>::Real w, x, y, z;
-};
-
-template <int W>
-inline Vec3L<W> cross(const Vec3L<W>& a, const Vec3L<W>& b) noexcept {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-template <int W>
-inline typename Lanes<W>::Real dot(const Vec3L<W>& a, const Vec3L<W>& b) noexcept {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
-}
-/// q v q*, as Eigen's _transformVector: t = 2 q.vec × v; v + w t + q.vec × t.
-template <int W>
-inline Vec3L<W> rotate(const QuatL<W>& q, const Vec3L<W>& v) noexcept {
-    const Vec3L<W> u{q.x, q.y, q.z};
-    Vec3L<W> t = cross(u, v);
-    t = {2.0 * t.x, 2.0 * t.y, 2.0 * t.z};
-    const Vec3L<W> c = cross(u, t);
-    return {v.x + q.w * t.x + c.x, v.y + q.w * t.y + c.y, v.z + q.w * t.z + c.z};
-}
-template <int W>
-inline QuatL<W> mul(const QuatL<W>& a, const QuatL<W>& b) noexcept {
-    return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-            a.w * b.y + a.y * b.w + a.z * b.x - a.x * b.z, a.w * b.z + a.z * b.w + a.x * b.y - a.y * b.x};
-}
-/// atanOverArgSeries of beam.hpp, lane-wise: the same operations in the same order. Not shared with the
-/// scalar function through a template: beam.hpp is compiled for the baseline target, so a template there
-/// would be a baseline-target function on 32-byte vectors (GCC warns of the AVX ABI change and may lower it
-/// to SSE halves). Here it takes the target of the unit that includes this header.
-template <class Real>
-inline Real atanOverArgSeriesL(Real x) noexcept {
-    const Real x2 = x * x;
-    const Real x4 = x2 * x2;
-    const Real q01 = -1.0 / 3.0 + x * (1.0 / 5.0);
-    const Real q23 = -1.0 / 7.0 + x * (1.0 / 9.0);
-    const Real q45 = -1.0 / 11.0 + x * (1.0 / 13.0);
-    const Real q67 = -1.0 / 15.0 + x * (1.0 / 17.0);
-    const Real q = (q01 + x2 * q23) + x4 * (q45 + x2 * q67);
-    return 1.0 + x * q;
-}
-template <class Real>
-inline Real sqrtL(Real x) noexcept {
-    constexpr int kW = sizeof(Real) / sizeof(double);
-    Real r;
-    for (int l = 0; l < kW; ++l) {
-        r[l] = std::sqrt(x[l]);
-    }
-    return r;
-}
+using QuatL = QuatT<typename Lanes<W>::Real>;
 
 // ---- gathers and stores -------------------------------------------------------------------------------------
 /// Indices of a block's W bonds; lanes past the last bond repeat it (computed, never stored).
@@ -314,82 +272,40 @@ template <int W>
                           : gather4<W>(a, blk.k);
 }
 
-template <int W>
-inline Vec3 laneOf(const Vec3L<W>& v, int l) noexcept {
+template <class Real>
+inline Vec3 laneOf(const Vec3T<Real>& v, int l) noexcept {
     return Vec3(v.x[l], v.y[l], v.z[l]);
 }
-template <int W>
-inline void storeLane(double* a, std::size_t k, const Vec3L<W>& v, int l) noexcept {
+inline void storePlain3(double* a, std::size_t k, const Vec3T<double>& v) noexcept {
+    a[3 * k] = v.x;
+    a[3 * k + 1] = v.y;
+    a[3 * k + 2] = v.z;
+}
+template <class Real>
+inline void storeLane(double* a, std::size_t k, const Vec3T<Real>& v, int l) noexcept {
     a[3 * k] = v.x[l];
     a[3 * k + 1] = v.y[l];
     a[3 * k + 2] = v.z[l];
 }
 
 // ---- kinematics ---------------------------------------------------------------------------------------------
-/// beamKinematics of W bonds in the series branch (beam.hpp), component by component. `in_range` is −1
-/// (all bits) in a lane whose three angles lie in the series range; elsewhere the lane's values are not
-/// used. Eigen's operation order differs from these formulas inside the quaternion products, so a lane
-/// agrees with beamKinematics to round-off, not bit for bit (BeamKernel.LanePathMatchesTheScalarLawPerBond).
 template <int W>
-struct KinematicsL {
-    using Real = typename Lanes<W>::Real;
-    Vec3L<W> axis;
-    Real length;
-    Real stretch;
-    Vec3L<W> theta_i;
-    Vec3L<W> theta_j;
-    Real twist;
-    typename Lanes<W>::Mask in_range;
+using KinematicsL = BeamKinematicsT<typename Lanes<W>::Real>;
 
-    BeamKinematics lane(int l) const noexcept {
-        return {laneOf(axis, l), length[l], stretch[l], laneOf(theta_i, l), laneOf(theta_j, l), twist[l]};
-    }
-};
+/// Lane l of the lane kinematics, for the scalar path of a bond that leaves the lanes after them.
+template <class Real>
+inline BeamKinematics laneOf(const BeamKinematicsT<Real>& k, int l) noexcept {
+    return {laneOf(k.axis, l), k.length[l], k.stretch[l], laneOf(k.theta_i, l), laneOf(k.theta_j, l), k.twist[l]};
+}
 
+/// beamKinematics (beam.hpp) of a block's W bonds, the series branch in every lane; `in_range` is −1 (all
+/// bits) in a lane whose three angles lie in the series range, elsewhere the lane's values are not used.
 template <int W>
 [[gnu::always_inline]] inline KinematicsL<W> kinematicsL(const BondView& b, const ParticleView& p, const Block<W>& blk) noexcept {
-    using Real = typename Lanes<W>::Real;
-    const Vec3L<W> xi = gather3<W>(p.position, blk.i);
-    const Vec3L<W> xj = gather3<W>(p.position, blk.j);
-    const QuatL<W> qi = particleQuats<W>(p.orientation, blk.i);
-    const QuatL<W> qj = particleQuats<W>(p.orientation, blk.j);
-    const Vec3L<W> ai = bond3<W>(b.axis_i, blk);
-    const Vec3L<W> aj = bond3<W>(b.axis_j, blk);
-    const QuatL<W> ref = bond4<W>(b.twist_ref, blk);
-    const Real rest_length = bond1<W>(b.rest_length, blk);
-
-    KinematicsL<W> k;
-    const Vec3L<W> d{xj.x - xi.x, xj.y - xi.y, xj.z - xi.z};
-    k.length = sqrtL(dot(d, d));
-    const Real inv_length = 1.0 / k.length;
-    const Vec3L<W> mi = rotate(qi, ai);
-    const Vec3L<W> mj = rotate(qj, aj);
-    const Vec3L<W> ci = cross(d, mi);
-    const Vec3L<W> cj = cross(d, mj);
-    const Real s2i = dot(ci, ci);
-    const Real s2j = dot(cj, cj);
-    const Real cos_i = dot(d, mi);
-    const Real cos_j = dot(d, mj);
-    const Real den_i = k.length + cos_i;
-    const Real den_j = k.length + cos_j;
-    const Real inv_i = 1.0 / den_i;
-    const Real inv_j = 1.0 / den_j;
-    const Real fi = 2.0 * inv_i * atanOverArgSeriesL(s2i * (inv_i * inv_i));
-    const Real fj = 2.0 * inv_j * atanOverArgSeriesL(s2j * (inv_j * inv_j));
-    const QuatL<W> conj_qi{qi.w, -qi.x, -qi.y, -qi.z};
-    const QuatL<W> rel = mul(mul(qj, ref), conj_qi);
-    const Real along = rel.x * d.x + rel.y * d.y + rel.z * d.z;
-    const Real w = k.length * rel.w;
-    const Real tau = along / w;
-    k.twist = 2.0 * tau * atanOverArgSeriesL(tau * tau);
-    k.axis = {d.x * inv_length, d.y * inv_length, d.z * inv_length};
-    k.stretch = k.length - rest_length;
-    k.theta_i = {fi * ci.x, fi * ci.y, fi * ci.z};
-    k.theta_j = {fj * cj.x, fj * cj.y, fj * cj.z};
-    k.in_range = (cos_i > 0.0) & (s2i <= kAtanSeriesLimit * (den_i * den_i)) & (cos_j > 0.0) &
-                 (s2j <= kAtanSeriesLimit * (den_j * den_j)) & (w != 0.0) &
-                 (along * along <= kAtanSeriesLimit * (w * w));
-    return k;
+    return law::beamKinematics(gather3<W>(p.position, blk.i), gather3<W>(p.position, blk.j),
+                          particleQuats<W>(p.orientation, blk.i), particleQuats<W>(p.orientation, blk.j),
+                          bond3<W>(b.axis_i, blk), bond3<W>(b.axis_j, blk), bond4<W>(b.twist_ref, blk),
+                          bond1<W>(b.rest_length, blk));
 }
 
 // ---- the scalar path ----------------------------------------------------------------------------------------
@@ -468,29 +384,23 @@ EulerBernoulliBeam densify(const DensificationLaw& law, const DensificationView&
 template <bool Viscous, int Densify>
 inline void finishBond(const BondView& b, const ParticleView& p, const detail::BeamPass& pass, std::size_t k,
                        BeamKinematics kin) {
-    EulerBernoulliBeam law{};
+    BeamStiffness<double> stiffness{};
     if constexpr (Densify > 0) {
-        law = densify<Densify == 2>(*pass.law, *pass.state, p, b, k, kin);
+        stiffness = densify<Densify == 2>(*pass.law, *pass.state, p, b, k, kin);
     } else {
-        law = lawOf(b, k);
+        stiffness = lawOf(b, k);
     }
-    BeamLoads loads = law.evaluate(kin);
+    BeamLoadsT<double> loads = law::beamLoads(stiffness, kin.plain());
     if constexpr (Viscous) {
         const std::size_t i = static_cast<std::size_t>(b.i[k]);
         const std::size_t j = static_cast<std::size_t>(b.j[k]);
-        const double m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-        const double j_eff = p.inertia[i] * p.inertia[j] / (p.inertia[i] + p.inertia[j]);
-        const double c_axial = pass.damping_ratio * 2.0 * std::sqrt(m_eff * law.axial_stiffness);
-        const double c_rot = pass.damping_ratio * 2.0 * std::sqrt(j_eff * 2.0 * law.bending_stiffness);
-        const double axial_rate = (load3(p.velocity, j) - load3(p.velocity, i)).dot(kin.axis);
-        const Vec3 spin_rate = load3(p.angular_velocity, j) - load3(p.angular_velocity, i);
-        loads.force_i += (c_axial * axial_rate) * kin.axis;
-        loads.torque_i += c_rot * spin_rate;
-        loads.torque_j -= c_rot * spin_rate;
+        law::addBondDashpots(loads, pass.damping_ratio, stiffness, plain(kin.axis), p.mass[i], p.mass[j],
+                             p.inertia[i], p.inertia[j], plain(load3(p.velocity, i)), plain(load3(p.velocity, j)),
+                             plain(load3(p.angular_velocity, i)), plain(load3(p.angular_velocity, j)));
     }
-    store3(b.force, k, loads.force_i);
-    store3(b.torque_i, k, loads.torque_i);
-    store3(b.torque_j, k, loads.torque_j);
+    storePlain3(b.force, k, loads.force_i);
+    storePlain3(b.torque_i, k, loads.torque_i);
+    storePlain3(b.torque_j, k, loads.torque_j);
 }
 
 /// A bond off the lanes: finishBond with the lane's kinematics `lane`, or, when null, the scalar kinematics.
@@ -539,7 +449,7 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
     Real young, shear, radius;
     if constexpr (Densify > 0) {
         // densify() of a bond that does not slip: the same expressions, lane-wise.
-        const DensificationLaw& law = *pass.law;
+        const DensificationLaw& densification = *pass.law;
         const DensificationView& d = *pass.state;
         const Real strain = kin.stretch / l0;
         const Real slip = bond1<W>(d.slip, blk);
@@ -550,65 +460,31 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
         Real section_factor = Real{} + 1.0;
         if constexpr (Densify == 2) {
             if (anyLane(slip != 0.0)) { // rare: a block with a bond densified earlier
-                section_factor = sectionFactors<W>(law, slip);
+                section_factor = sectionFactors<W>(densification, slip);
             }
         }
-        const Real stress = (young * section_factor) * (strain - reference);
-        const Real excess = -stress - (law.slider.yield_stress + law.slider.hardening * slip);
-        slipping = (excess > 0.0) & (slip < law.slider.max_slip);
+        const SpringSlider& slider = densification.slider;
+        const Real stress = law::sliderStress(young * section_factor, strain, reference);
+        slipping = law::sliderSlips(slider.max_slip, slip, law::sliderExcess(slider.yield_stress, slider.hardening, slip, stress));
         stretch = (strain - reference) * l0;
     } else {
         young = bond1<W>(b.young, blk);
         shear = bond1<W>(b.shear, blk);
         radius = bond1<W>(b.section_radius, blk);
     }
-    // EulerBernoulliBeam::make
-    const Real r2 = radius * radius;
-    const Real area = std::numbers::pi * r2;
-    const Real second_moment = 0.25 * std::numbers::pi * r2 * r2;
-    const Real polar_moment = 2.0 * second_moment;
-    const Real inv_rest = 1.0 / l0;
-    const Real axial_stiffness = young * area * inv_rest;
-    const Real bending_stiffness = 2.0 * young * second_moment * inv_rest;
-    const Real torsion_stiffness = shear * polar_moment * inv_rest;
-    // EulerBernoulliBeam::evaluate
-    const Real normal_force = axial_stiffness * stretch;
-    const Vec3L<W> bend_sum{kin.theta_i.x + kin.theta_j.x, kin.theta_i.y + kin.theta_j.y,
-                            kin.theta_i.z + kin.theta_j.z};
-    const Real shear_factor = 3.0 * bending_stiffness / kin.length;
-    const Vec3L<W> c = cross(kin.axis, bend_sum);
-    Vec3L<W> force{normal_force * kin.axis.x + shear_factor * c.x, normal_force * kin.axis.y + shear_factor * c.y,
-                   normal_force * kin.axis.z + shear_factor * c.z};
-    const Real twist_moment = torsion_stiffness * kin.twist;
-    const Vec3L<W> twist_torque{twist_moment * kin.axis.x, twist_moment * kin.axis.y, twist_moment * kin.axis.z};
-    Vec3L<W> torque_i{twist_torque.x - bending_stiffness * (2.0 * kin.theta_i.x + kin.theta_j.x),
-                      twist_torque.y - bending_stiffness * (2.0 * kin.theta_i.y + kin.theta_j.y),
-                      twist_torque.z - bending_stiffness * (2.0 * kin.theta_i.z + kin.theta_j.z)};
-    Vec3L<W> torque_j{-twist_torque.x - bending_stiffness * (kin.theta_i.x + 2.0 * kin.theta_j.x),
-                      -twist_torque.y - bending_stiffness * (kin.theta_i.y + 2.0 * kin.theta_j.y),
-                      -twist_torque.z - bending_stiffness * (kin.theta_i.z + 2.0 * kin.theta_j.z)};
+    KinematicsL<W> beam = kin; // the slipping lanes' scalar path takes kin with the total stretch l − l₀
+    beam.stretch = stretch;
+    const BeamStiffness<Real> stiffness = law::beamStiffness(young, shear, radius, l0);
+    BeamLoadsT<Real> loads = law::beamLoads(stiffness, beam);
     if constexpr (Viscous) {
-        // the dashpots of finishBond
-        const Real mi = gather1<W>(p.mass, blk.i);
-        const Real mj = gather1<W>(p.mass, blk.j);
-        const Real ii = gather1<W>(p.inertia, blk.i);
-        const Real ij = gather1<W>(p.inertia, blk.j);
-        const Real m_eff = mi * mj / (mi + mj);
-        const Real j_eff = ii * ij / (ii + ij);
-        const Real c_axial = pass.damping_ratio * 2.0 * sqrtL(m_eff * axial_stiffness);
-        const Real c_rot = pass.damping_ratio * 2.0 * sqrtL(j_eff * 2.0 * bending_stiffness);
-        const Vec3L<W> vi = gather3<W>(p.velocity, blk.i);
-        const Vec3L<W> vj = gather3<W>(p.velocity, blk.j);
-        const Vec3L<W> dv{vj.x - vi.x, vj.y - vi.y, vj.z - vi.z};
-        const Real axial_rate = dot(dv, kin.axis);
-        const Vec3L<W> wi = gather3<W>(p.angular_velocity, blk.i);
-        const Vec3L<W> wj = gather3<W>(p.angular_velocity, blk.j);
-        const Vec3L<W> spin{wj.x - wi.x, wj.y - wi.y, wj.z - wi.z};
-        const Real damper = c_axial * axial_rate;
-        force = {force.x + damper * kin.axis.x, force.y + damper * kin.axis.y, force.z + damper * kin.axis.z};
-        torque_i = {torque_i.x + c_rot * spin.x, torque_i.y + c_rot * spin.y, torque_i.z + c_rot * spin.z};
-        torque_j = {torque_j.x - c_rot * spin.x, torque_j.y - c_rot * spin.y, torque_j.z - c_rot * spin.z};
+        law::addBondDashpots(loads, pass.damping_ratio, stiffness, kin.axis, gather1<W>(p.mass, blk.i), gather1<W>(p.mass, blk.j),
+                        gather1<W>(p.inertia, blk.i), gather1<W>(p.inertia, blk.j), gather3<W>(p.velocity, blk.i),
+                        gather3<W>(p.velocity, blk.j), gather3<W>(p.angular_velocity, blk.i),
+                        gather3<W>(p.angular_velocity, blk.j));
     }
+    const Vec3L<W>& force = loads.force_i;
+    const Vec3L<W>& torque_i = loads.torque_i;
+    const Vec3L<W>& torque_j = loads.torque_j;
     // A full block with every bond on the lane path (the common case) is stored in contiguous runs.
     static_assert(W <= 8, "the broken flags of a block are read as one 64-bit word");
     std::uint64_t broken_bytes = 0;
@@ -631,7 +507,7 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
         } else if (kin.in_range[l] == 0) {
             scalarBond<Viscous, Densify>(b, p, pass, k, nullptr);
         } else if (slipping[l] != 0) {
-            const BeamKinematics lane = kin.lane(l);
+            const BeamKinematics lane = laneOf(kin, l);
             scalarBond<Viscous, Densify>(b, p, pass, k, &lane);
         } else {
             storeLane(b.force, k, force, l);

@@ -35,6 +35,8 @@
 #include <cmath>
 #include <cstddef>
 
+#include "kernels/law.hpp"
+
 namespace vitrum {
 
 /// Explicit densification history of one bond (STYLE.md rule 4).
@@ -61,17 +63,17 @@ struct SpringSlider {
     }
 
     /// Compressive stress at which a bond with slip e_p slips further.
-    double yieldAt(double slip) const noexcept { return yield_stress + hardening * slip; }
+    double yieldAt(double slip) const noexcept { return law::sliderYield(yield_stress, hardening, slip); }
 
     /// Return mapping from `old` at total axial strain `strain` with the current modulus `young` (GPa).
     SliderResult update(const SliderState& old, double strain, double young) const noexcept {
-        SliderResult r{old, young * (strain - old.reference_strain), false};
-        const double excess = -r.stress - yieldAt(old.slip);
-        if (excess > 0.0 && old.slip < max_slip) {
+        SliderResult r{old, law::sliderStress(young, strain, old.reference_strain), false};
+        const double excess = law::sliderExcess(yield_stress, hardening, old.slip, r.stress);
+        if (law::sliderSlips(max_slip, old.slip, excess)) {
             const double dslip = std::min(excess / (young + hardening), max_slip - old.slip);
             r.state.slip = old.slip + dslip;
             r.state.reference_strain = old.reference_strain - dslip;
-            r.stress = young * (strain - r.state.reference_strain);
+            r.stress = law::sliderStress(young, strain, r.state.reference_strain);
             r.slipped = true;
         }
         return r;

@@ -244,12 +244,12 @@ TEST(BeamLaw, AtanSeriesMatchesLibmToRoundOff) {
     for (int k = 1; k <= n; ++k) {
         const double u = 0.125 * static_cast<double>(k) / n;
         const long double exact = std::atan(static_cast<long double>(u)) / static_cast<long double>(u);
-        const double got = atanOverArgSeries(u * u);
+        const double got = law::atanOverArgSeries(u * u);
         worst = std::max(worst, static_cast<double>(std::fabs((static_cast<long double>(got) - exact) / exact)));
     }
     RecordProperty("worst_relative_error", std::to_string(worst / 1e-16) + "e-16");
     EXPECT_LT(worst, 4e-16);
-    EXPECT_EQ(atanOverArgSeries(0.0), 1.0);
+    EXPECT_EQ(law::atanOverArgSeries(0.0), 1.0);
 }
 
 /// Reference bending rotation by the atan2 form, evaluated in long double from the same double cross
