@@ -1,8 +1,7 @@
 // The beam pass W bonds at a time in SIMD lanes (W = 2: SSE2, W = 4: AVX2, W = 8: AVX-512F): the loops,
 // gathers and stores of the lane back-end. The physics is not here: the kinematics, the beam law (paper
-// eqs 1–4), the slider's check and the dashpots are the templates of kernels/beam.hpp and
-// kernels/densification.hpp instantiated on lane vectors (kernels/law.hpp), the same code the scalar path
-// runs on doubles.
+// eqs 1–4), the slider's check and the dashpots are the templates of kernels/laws.inl instantiated on lane
+// vectors, the same source the scalar path runs on doubles.
 //
 // Lanes are GCC vector-extension doubles: every operation is element-wise IEEE (no FMA: the build has none,
 // the AVX2 translation unit enables "avx2" only and the AVX-512 one has fp-contract off), so a lane computes
@@ -18,10 +17,8 @@
 // Internal to the kernels: included only by bond_kernels.cpp (W = 2), bond_kernels_avx2.cpp (W = 4, under
 // `#pragma GCC target("avx2")`) and bond_kernels_avx512.cpp (W = 8, `target("avx512f")`). Everything here has
 // internal linkage on purpose: the wide units' copies of these functions must never be merged by the linker
-// with the baseline unit's (a machine without AVX2 or AVX-512 would then execute their code). The law
-// templates keep external linkage safely: they are defined under the baseline target (the wide units include
-// their headers before the target pragma) and always inlined, so their code takes the caller's target and
-// any copy the linker might merge is baseline code.
+// with the baseline unit's (a machine without AVX2 or AVX-512 would then execute their code). That is also why
+// the law functions are included once more below, inside this anonymous namespace.
 #pragma once
 
 #include <algorithm>
@@ -276,11 +273,6 @@ template <class Real>
 inline Vec3 laneOf(const Vec3T<Real>& v, int l) noexcept {
     return Vec3(v.x[l], v.y[l], v.z[l]);
 }
-inline void storePlain3(double* a, std::size_t k, const Vec3T<double>& v) noexcept {
-    a[3 * k] = v.x;
-    a[3 * k + 1] = v.y;
-    a[3 * k + 2] = v.z;
-}
 template <class Real>
 inline void storeLane(double* a, std::size_t k, const Vec3T<Real>& v, int l) noexcept {
     a[3 * k] = v.x[l];
@@ -398,9 +390,9 @@ inline void finishBond(const BondView& b, const ParticleView& p, const detail::B
                              p.inertia[i], p.inertia[j], plain(load3(p.velocity, i)), plain(load3(p.velocity, j)),
                              plain(load3(p.angular_velocity, i)), plain(load3(p.angular_velocity, j)));
     }
-    storePlain3(b.force, k, loads.force_i);
-    storePlain3(b.torque_i, k, loads.torque_i);
-    storePlain3(b.torque_j, k, loads.torque_j);
+    store3(b.force, k, eigen(loads.force_i));
+    store3(b.torque_i, k, eigen(loads.torque_i));
+    store3(b.torque_j, k, eigen(loads.torque_j));
 }
 
 /// A bond off the lanes: finishBond with the lane's kinematics `lane`, or, when null, the scalar kinematics.
@@ -442,9 +434,9 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
     using Real = typename Lanes<W>::Real;
     using Mask = typename Lanes<W>::Mask;
     const Block<W> blk = blockOf<W>(b, m);
-    const KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
+    KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
     const Real l0 = bond1<W>(b.rest_length, blk);
-    Real stretch = kin.stretch;
+    const Real total_stretch = kin.stretch; // l − l₀, what a slipping lane's scalar path starts from
     Mask slipping{};
     Real young, shear, radius;
     if constexpr (Densify > 0) {
@@ -466,16 +458,14 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
         const SpringSlider& slider = densification.slider;
         const Real stress = law::sliderStress(young * section_factor, strain, reference);
         slipping = law::sliderSlips(slider.max_slip, slip, law::sliderExcess(slider.yield_stress, slider.hardening, slip, stress));
-        stretch = (strain - reference) * l0;
+        kin.stretch = (strain - reference) * l0;
     } else {
         young = bond1<W>(b.young, blk);
         shear = bond1<W>(b.shear, blk);
         radius = bond1<W>(b.section_radius, blk);
     }
-    KinematicsL<W> beam = kin; // the slipping lanes' scalar path takes kin with the total stretch l − l₀
-    beam.stretch = stretch;
     const BeamStiffness<Real> stiffness = law::beamStiffness(young, shear, radius, l0);
-    BeamLoadsT<Real> loads = law::beamLoads(stiffness, beam);
+    BeamLoadsT<Real> loads = law::beamLoads(stiffness, kin);
     if constexpr (Viscous) {
         law::addBondDashpots(loads, pass.damping_ratio, stiffness, kin.axis, gather1<W>(p.mass, blk.i), gather1<W>(p.mass, blk.j),
                         gather1<W>(p.inertia, blk.i), gather1<W>(p.inertia, blk.j), gather3<W>(p.velocity, blk.i),
@@ -507,7 +497,8 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
         } else if (kin.in_range[l] == 0) {
             scalarBond<Viscous, Densify>(b, p, pass, k, nullptr);
         } else if (slipping[l] != 0) {
-            const BeamKinematics lane = laneOf(kin, l);
+            BeamKinematics lane = laneOf(kin, l);
+            lane.stretch = total_stretch[l];
             scalarBond<Viscous, Densify>(b, p, pass, k, &lane);
         } else {
             storeLane(b.force, k, force, l);

@@ -8,9 +8,8 @@
 // target and once more, after `#pragma GCC target`, inside each wide unit's anonymous namespace
 // (beam_lanes.hpp). A template takes the instruction set of the place it is defined, and GCC lowers a lane
 // vector the target cannot hold (32 or 64 bytes under the baseline) into pieces before it inlines: the
-// comparisons of a baseline template instantiated on AVX-512 lanes became scalar compares (measured: the
-// 8-lane beam pass 12.2 → 16.5 ms per 565 000 bonds). So each instruction set compiles its own copy of the
-// same source. The types below hold no functions, so argument-dependent lookup never meets two copies.
+// comparisons of a baseline template instantiated on AVX-512 lanes became scalar compares and the 8-lane pass
+// lost a third of its speed (CHANGELOG.md). So each instruction set compiles its own copy of the same source. The types below hold no functions, so argument-dependent lookup never meets two copies.
 //
 // A law function is marked VITRUM_LAW: always inlined (the lane loop is one function); under a CUDA or HIP
 // compiler it becomes host and device code. No Eigen, no exceptions, no allocation, no virtual call in a law.
