@@ -132,7 +132,7 @@ TEST(RunPromises, BadInputFoundAfterReadingTheSceneWritesNothing) {
         {" --set time.duration=1e308", "time.duration"},
         {" --set indenter.stiffness=1e30", "indenter.stiffness"},
         {" --set indenter.axis_x=100", "the tool does not meet the sample"},
-        {" --set 'scene.name=\"../../x\"'", "scene.name"},
+        {" --set 'scene.name=\"../../vitrum-name-escape\"'", "scene.name"},
         {" --set 'scene.name=\"\"'", "scene.name"},
         {" --set sample.particles=2000000000000", "sample.particles"},
     };
@@ -143,7 +143,10 @@ TEST(RunPromises, BadInputFoundAfterReadingTheSceneWritesNothing) {
         EXPECT_NE(log.find(c.expect), std::string::npos) << c.args << "\n" << log;
         EXPECT_FALSE(fs::exists(out)) << c.args << ": the output directory was created";
     }
-    EXPECT_FALSE(fs::exists(fs::path(VITRUM_SOURCE_DIR).parent_path() / "x"));
+    // A name that is a path would have written beside the run's directory or the checkout; the probe's name is
+    // one no checkout or temporary directory carries (a clone in /tmp/x made "x" a false alarm).
+    EXPECT_FALSE(fs::exists(fs::path(VITRUM_SOURCE_DIR).parent_path() / "vitrum-name-escape"));
+    EXPECT_FALSE(fs::exists(dir.parent_path() / "vitrum-name-escape"));
 }
 
 TEST(RunPromises, CommandLineValuesAreCheckedWithAClearMessage) {
