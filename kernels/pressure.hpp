@@ -5,6 +5,12 @@
 // which is exactly −P ∂V/∂x_a of the enclosed volume V = Σ_f x_a·(x_b × x_c)/6 (the ring of edges around a
 // vertex sums to zero), so the load does the virtual work −P dV of a hydrostatic pressure on that volume and
 // sums to zero over the closed surface. Units: GPa, µm → mN.
+//
+// A uniform stress tensor σ (symmetric) as tractions t = σ n, lumped the same way:
+//   F_a = σ Σ_{f ∋ a} A_f n_f / 3 = σ ∂V/∂x_a,
+// sums to zero force and zero moment over a closed surface (σ symmetric), and Σ_a x_a ⊗ F_a = V σ exactly
+// (x is linear on each flat face), so the virial of the loaded body is that of the uniform stress σ in V.
+// σ = −P I is the pressure above.
 #pragma once
 
 #include <cstddef>
@@ -26,6 +32,9 @@ struct SurfaceView {
 
 /// Adds the pressure loads to the surface particles' forces (race-free: one vertex per iteration).
 void applyPressure(const ParticleView& particles, const SurfaceView& surface, double pressure);
+
+/// Adds the tractions of the uniform stress `stress` (xx yy zz xy yz xz, GPa, tension positive).
+void applyStress(const ParticleView& particles, const SurfaceView& surface, const double* stress);
 
 /// Volume enclosed by the surface at the current positions, µm³ (deterministic reduction).
 double enclosedVolume(const double* position, const SurfaceView& surface);

@@ -51,7 +51,7 @@ void computeVirialStress(const IncidenceView& inc, const BondView& b, const Part
                 addSymmetric(acc, load3(p.position, j) - load3(p.position, i), load3(c.force, k));
             }
         }
-        const double scale = 1.0 / (2.0 * volume.of(p.radius[q])); // eq (10): 1/(2Ω_i)
+        const double scale = 1.0 / (2.0 * volume.at(q, p.radius[q])); // eq (10): 1/(2Ω_i)
         for (int m = 0; m < 6; ++m) {
             stress[6 * q + m] = scale * acc[m];
         }
@@ -60,18 +60,21 @@ void computeVirialStress(const IncidenceView& inc, const BondView& b, const Part
         const std::size_t q = static_cast<std::size_t>(external.particle[k]);
         double acc[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
         addSymmetric(acc, load3(external.point, k) - load3(p.position, q), load3(external.force, k));
-        const double scale = 1.0 / volume.of(p.radius[q]); // true branch vector: no ½
+        const double scale = 1.0 / volume.at(q, p.radius[q]); // true branch vector: no ½
         for (int m = 0; m < 6; ++m) {
             stress[6 * q + m] += scale * acc[m];
         }
     }
 }
 
-void averageOverBondedNeighbours(const IncidenceView& inc, const BondView& b, const ParticleView& p, const double* stress,
-                                 double* averaged) {
-    // Ω_j ∝ R_j³ (the packing fraction and 4π/3 cancel in the weights).
+void averageOverBondedNeighbours(const IncidenceView& inc, const BondView& b, const ParticleView& p,
+                                 const ParticleVolume& volume, const double* stress, double* averaged) {
+    // Ω_j: the cells, or ∝ R_j³ (the packing fraction and 4π/3 cancel in the weights).
+    const auto weight = [&](std::size_t q) {
+        return volume.cell ? volume.cell[q] : p.radius[q] * p.radius[q] * p.radius[q];
+    };
     parallelFor("fracture.average", inc.n, [&](std::size_t q) {
-        double w = p.radius[q] * p.radius[q] * p.radius[q];
+        double w = weight(q);
         double total = w;
         double acc[6];
         for (int m = 0; m < 6; ++m) {
@@ -84,7 +87,7 @@ void averageOverBondedNeighbours(const IncidenceView& inc, const BondView& b, co
                 continue;
             }
             const std::size_t other = static_cast<std::size_t>((code & 1) ? b.i[k] : b.j[k]);
-            w = p.radius[other] * p.radius[other] * p.radius[other];
+            w = weight(other);
             total += w;
             for (int m = 0; m < 6; ++m) {
                 acc[m] += w * stress[6 * other + m];

@@ -13,9 +13,10 @@
 // Sign: tension positive (a stretched bond pulls i towards j: f_ij ∥ r_ij).
 //
 // Ω_i (ParticleVolume): the sphere volume divided by a packing fraction φ (default the sample's: 0.63 for
-// the dense random packings, π/(3√2) fcc, π/6 sc), so that Σ Ω_i is the sample volume and the volume
-// average of σ̄_i is the macroscopic stress; φ = 1 gives the bare sphere volume (paper's wording, stress
-// 1/φ ≈ 1.6× higher). The calibrated strength σ_f^hyd is tied to this choice.
+// the dense random packings, π/(3√2) fcc, π/6 sc), so that Σ Ω_i is about the sample volume and the volume
+// average of σ̄_i the macroscopic stress; φ = 1 gives the bare sphere volume (paper's wording, stress
+// 1/φ ≈ 1.6× higher). The calibrated strength σ_f^hyd is tied to this choice. Or the particle's Delaunay cell
+// (solver/model/tessellation.hpp), for which the Ω-weighted mean is the applied stress exactly.
 //
 // Determinism: each particle sums its own bonds in CSR order, then its contacts in pair-CSR order, in a
 // parallelFor that writes only its own six components; the point forces are added afterwards serially in
@@ -52,10 +53,13 @@ struct PointForceView {
     const double* point = nullptr; ///< 3n, µm
 };
 
-/// Ω_i = (4/3) π R_i³ / packing_fraction.
+/// Ω_i: the particle's cell volume when `cell` is given (n values, µm³: the Delaunay cells of
+/// solver/model/tessellation.hpp), else (4/3) π R_i³ / packing_fraction.
 struct ParticleVolume {
     double packing_fraction = 0.63;
+    const double* cell = nullptr;
     double of(double radius) const noexcept;
+    double at(std::size_t q, double radius) const noexcept { return cell ? cell[q] : of(radius); }
 };
 
 /// Overwrites stress[6p .. 6p+6) of every particle with eq (10). `contacts`/`contact_incidence` may be empty
@@ -66,9 +70,10 @@ void computeVirialStress(const IncidenceView& bond_incidence, const BondView& bo
 
 /// Optional smoothing (reference note §6.3, GranOO's NeighbourLevel = 1): the Ω-weighted mean of eq (10) over the
 /// particle and its bonded (unbroken) neighbours, σ̃_i = (Ω_i σ_i + Σ_j Ω_j σ_j)/(Ω_i + Σ_j Ω_j), i.e. eq (8) over
-/// that region. Reads `stress`, writes `averaged` (distinct arrays); CSR order, thread-count independent.
+/// that region. Ω: `volume`'s cells when it has them, else ∝ R³ (the packing fraction and 4π/3 cancel). Reads
+/// `stress`, writes `averaged` (distinct arrays); CSR order, thread-count independent.
 void averageOverBondedNeighbours(const IncidenceView& bond_incidence, const BondView& bonds, const ParticleView& particles,
-                                 const double* stress, double* averaged);
+                                 const ParticleVolume& volume, const double* stress, double* averaged);
 
 /// tr(σ)/3 of one particle's six components.
 inline double hydrostaticStress(const double* s6) noexcept { return (s6[0] + s6[1] + s6[2]) / 3.0; }

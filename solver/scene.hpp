@@ -59,6 +59,12 @@ template <> struct EnumNames<BoundaryKind> {
     static constexpr std::array<std::string_view, 3> names = {"fixed", "velocity", "displacement"};
 };
 
+/// A [[load]]: hydrostatic pressure, or a uniform stress tensor applied as tractions σ·n on the hull.
+enum class LoadKind { Pressure, Stress };
+template <> struct EnumNames<LoadKind> {
+    static constexpr std::array<std::string_view, 2> names = {"pressure", "stress"};
+};
+
 enum class DampingKind { None, CundallLocal, BondViscous };
 template <> struct EnumNames<DampingKind> {
     static constexpr std::array<std::string_view, 3> names = {"none", "cundall", "bond-viscous"};
@@ -74,10 +80,11 @@ template <> struct EnumNames<StageKind> {
     static constexpr std::array<std::string_view, 4> names = {"load", "hold", "unload", "relax"};
 };
 
-/// Ω_i of the fracture criterion: the particle's sphere over the packing fraction, or the bare sphere.
-enum class FractureVolume { Packing, Sphere };
+/// Ω_i of the particle stress: the particle's sphere over the packing fraction, the bare sphere, or the
+/// particle's Delaunay cell (solver/model/tessellation.hpp).
+enum class FractureVolume { Packing, Sphere, Cells };
 template <> struct EnumNames<FractureVolume> {
-    static constexpr std::array<std::string_view, 2> names = {"packing", "sphere"};
+    static constexpr std::array<std::string_view, 3> names = {"packing", "sphere", "cells"};
 };
 
 /// The stress the fracture criterion reads: eq (10) per particle, or its Ω-weighted mean with the bonded
@@ -205,20 +212,30 @@ struct BoundaryParams {
 /// released linearly over release_time, then zero.
 struct LoadParams {
     std::string set;
-    double pressure = 0.0;     ///< GPa, compressive positive
+    LoadKind kind = LoadKind::Pressure;
+    double pressure = 0.0;     ///< GPa, compressive positive (kind = stress: −tr σ / 3 of the stress held)
+    Vec3 normal_stress = Vec3::Zero(); ///< kind = stress: σ_xx, σ_yy, σ_zz held, GPa, tension positive
+    Vec3 shear_stress = Vec3::Zero();  ///< kind = stress: σ_xy, σ_yz, σ_xz held, GPa
     double ramp_time = 0.0;    ///< ns
     double hold_time = 0.0;    ///< ns
     double release_time = 0.0; ///< ns
 
-    double pressureAt(double t) const {
+    /// `value` (held) ramped, held and released at time t.
+    double profileAt(double value, double t) const {
         if (t < ramp_time) {
-            return pressure * t / ramp_time;
+            return value * t / ramp_time;
         }
         const double released = t - ramp_time - hold_time;
         if (released <= 0.0) {
-            return pressure;
+            return value;
         }
-        return released < release_time ? pressure * (1.0 - released / release_time) : 0.0;
+        return released < release_time ? value * (1.0 - released / release_time) : 0.0;
+    }
+    double pressureAt(double t) const { return profileAt(pressure, t); }
+    /// kind = stress: the six components (xx yy zz xy yz xz) at time t, GPa, tension positive.
+    std::array<double, 6> stressAt(double t) const {
+        return {profileAt(normal_stress.x(), t), profileAt(normal_stress.y(), t), profileAt(normal_stress.z(), t),
+                profileAt(shear_stress.x(), t),  profileAt(shear_stress.y(), t),  profileAt(shear_stress.z(), t)};
     }
 
     bool operator==(const LoadParams&) const = default;

@@ -153,7 +153,8 @@ const std::vector<Key<FractureParams>>& fractureKeys() {
                   "sigma_f^hyd: a particle is released when its hydrostatic tension reaches it (eq 10)"),
         integer<S>("check_every", &S::check_every, 1, "steps between evaluations of the criterion"),
         choice<S>("volume", &S::volume,
-                  "Omega_i: the particle's sphere over packing_fraction, or the bare sphere"),
+                  "Omega_i: the particle's sphere over packing_fraction, the bare sphere, or its Delaunay "
+                  "cell (R^3-weighted shares of the centres' tetrahedra; sums to the hull's volume)"),
         choice<S>(
             "averaging", &S::averaging,
             "the stress judged: eq (10) per particle, or its Omega-weighted mean with the bonded neighbours"),

@@ -76,27 +76,51 @@ Section boundarySection() {
 
 const std::vector<Key<LoadParams>>& loadKeys() {
     using S = LoadParams;
+    const auto kind_is = [](LoadKind kind) { return [kind](const S& s) { return s.kind == kind; }; };
     static const std::vector<Key<S>> keys = {
-        setName<S>("set", &S::set, "the set whose convex hull of centres the pressure acts on").isRequired(),
-        constant<S>("kind", "pressure", "hydrostatic pressure (the one kind of load)"),
+        setName<S>("set", &S::set, "the set whose convex hull of centres the load acts on").isRequired(),
+        choice<S>("kind", &S::kind,
+                  "pressure: hydrostatic pressure; stress: a uniform stress tensor, as tractions sigma.n on the "
+                  "hull (virtual tests: shear, uniaxial, triaxial)")
+            .isRequired(),
         number<S>("pressure", &S::pressure, Unit::Stress, kNonNegative,
                   "the pressure held, compressive positive")
-            .isRequired(),
+            .onlyWhen(kind_is(LoadKind::Pressure), notUsedWith("kind", &S::kind))
+            .defaultIs("required for kind = \"pressure\""),
+        vector<S>("normal_stress", &S::normal_stress, Unit::Stress, kAny,
+                  "the normal stresses held [xx, yy, zz], tension positive")
+            .onlyWhen(kind_is(LoadKind::Stress), notUsedWith("kind", &S::kind)),
+        vector<S>("shear_stress", &S::shear_stress, Unit::Stress, kAny, "the shear stresses held [xy, yz, xz]")
+            .onlyWhen(kind_is(LoadKind::Stress), notUsedWith("kind", &S::kind)),
         number<S>("ramp_time", &S::ramp_time, Unit::Time, kNonNegative,
-                  "time of the linear rise to the pressure"),
-        number<S>("hold_time", &S::hold_time, Unit::Time, kNonNegative, "time at the pressure"),
+                  "time of the linear rise to the load held"),
+        number<S>("hold_time", &S::hold_time, Unit::Time, kNonNegative, "time at the load held"),
         number<S>("release_time", &S::release_time, Unit::Time, kNonNegative,
                   "time of the linear release to zero (then zero)"),
     };
     return keys;
 }
 
+void loadRules(const TableReader& l, LoadParams& params, SceneReading& r) {
+    if (params.kind == LoadKind::Pressure && !l.find("pressure")) {
+        l.missing("pressure", "a number >= 0 (in " + r.units.name(Unit::Stress) + ") for kind = \"pressure\"");
+    }
+    if (params.kind == LoadKind::Stress) {
+        if (!l.find("normal_stress") && !l.find("shear_stress")) {
+            l.missing("normal_stress", "[xx, yy, zz] and/or shear_stress [xy, yz, xz] (in " +
+                                           r.units.name(Unit::Stress) + ") for kind = \"stress\"");
+        }
+        // The mean pressure of the stress held: the series' pressure column and the hydrostatic gauge.
+        params.pressure = -(params.normal_stress.x() + params.normal_stress.y() + params.normal_stress.z()) / 3.0;
+    }
+}
+
 Section loadSection() {
     return arraySection<LoadParams>("load",
-                                    "A surface load: hydrostatic pressure on the convex hull of a set's "
-                                    "centres (solver/model/surface.hpp), ramped, held and released.",
-                                    &Scene::loads, &loadKeys,
-                                    [](const TableReader&, LoadParams&, SceneReading&) {});
+                                    "A surface load on the convex hull of a set's centres "
+                                    "(solver/model/surface.hpp): a hydrostatic pressure or a uniform stress "
+                                    "tensor, ramped, held and released.",
+                                    &Scene::loads, &loadKeys, loadRules);
 }
 
 // --- [damping] ---------------------------------------------------------------------------------------------

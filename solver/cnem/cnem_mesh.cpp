@@ -1,12 +1,10 @@
 #include "solver/cnem/cnem_mesh.hpp"
 
 // Header-only CGAL (as in solver/model/surface.cpp): Boost.Multiprecision instead of GMP for the exact fallback.
-// This is the only translation unit of the CNEM that includes CGAL.
+// This is the only translation unit of the CNEM that includes CGAL (its predicates; the tessellation itself is
+// solver/model/tessellation.cpp).
 #define CGAL_DISABLE_GMP 1
-#include <CGAL/Delaunay_triangulation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Triangulation_cell_base_with_info_3.h>
-#include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <algorithm>
 #include <array>
@@ -20,6 +18,7 @@
 #include <Eigen/Dense>
 
 #include "kernels/parallel.hpp"
+#include "solver/model/tessellation.hpp"
 
 namespace vitrum {
 
@@ -27,10 +26,6 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
-using Vb = CGAL::Triangulation_vertex_base_with_info_3<std::int32_t, Kernel>;
-using Cb = CGAL::Triangulation_cell_base_with_info_3<std::int32_t, Kernel>;
-using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
-using Delaunay = CGAL::Delaunay_triangulation_3<Kernel, Tds>;
 
 Point pointOf(const CnemMesh& m, std::int32_t node) {
     const double* p = m.position.data() + 3 * static_cast<std::size_t>(node);
@@ -320,33 +315,20 @@ CnemMesh buildCnemMesh(const std::vector<double>& position, const CellClassifier
     m.position = position;
     const std::size_t n = m.nodes;
 
-    std::vector<std::pair<Point, std::int32_t>> points;
-    points.reserve(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        points.emplace_back(Point(position[3 * i], position[3 * i + 1], position[3 * i + 2]),
-                            static_cast<std::int32_t>(i));
+    Tessellation tessellation;
+    try {
+        tessellation = delaunayOf(position);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string("CNEM node cloud: ") + e.what());
     }
-    Delaunay dt(points.begin(), points.end());
-    if (dt.number_of_vertices() != n)
-        throw std::invalid_argument("CNEM node cloud has coincident nodes");
-    if (dt.dimension() != 3)
-        throw std::invalid_argument("CNEM node cloud spans no volume");
-
-    std::int32_t count = 0;
-    for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
-        c->info() = count++;
-    const std::size_t cells = static_cast<std::size_t>(count);
-    m.cell_vertex.resize(4 * cells);
-    m.cell_neighbour.resize(4 * cells);
+    const std::size_t cells = tessellation.cells();
+    m.cell_vertex = std::move(tessellation.cell_vertex);
+    m.cell_neighbour = std::move(tessellation.cell_neighbour);
     m.cell_kept.resize(cells);
-    for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
-        const std::size_t id = static_cast<std::size_t>(c->info());
+    for (std::size_t id = 0; id < cells; ++id) {
         Vec3 centroid = Vec3::Zero();
-        for (int k = 0; k < 4; ++k) {
-            m.cell_vertex[4 * id + static_cast<std::size_t>(k)] = c->vertex(k)->info();
-            centroid += nodeAt(m, c->vertex(k)->info());
-            const auto nb = c->neighbor(k);
-            m.cell_neighbour[4 * id + static_cast<std::size_t>(k)] = dt.is_infinite(nb) ? -1 : nb->info();
+        for (std::size_t k = 0; k < 4; ++k) {
+            centroid += nodeAt(m, m.cell_vertex[4 * id + k]);
         }
         m.cell_kept[id] = (!inside || inside(centroid / 4.0)) ? 1 : 0;
     }

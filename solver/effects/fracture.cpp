@@ -39,10 +39,16 @@ void stressOf(Model& m, Fracture& fracture, Contact* contact) {
     const ContactPairView pairs = list ? list->view() : ContactPairView{};
     const IncidenceView pair_incidence = list ? list->incidenceView() : IncidenceView{};
     double* raw = fracture.averaging ? fracture.scratch.data() : m.particles.stress.data();
+    ParticleVolume volume = fracture.volume;
+    if (!fracture.cells.empty()) {
+        cellVolumes(m.particles.position.data(), m.particles.radius.data(), fracture.cell_mesh.view(),
+                    fracture.cells.data());
+        volume.cell = fracture.cells.data();
+    }
     computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), pair_incidence, pairs,
-                        fracture.point_forces.view(), fracture.volume, raw);
+                        fracture.point_forces.view(), volume, raw);
     if (fracture.averaging) {
-        averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), raw,
+        averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), volume, raw,
                                     m.particles.stress.data());
     }
 }
@@ -61,6 +67,11 @@ Fracture makeFracture(const Scene& scene, Model& model) {
     f.law = HydrostaticRelease{scene.fracture.hydrostatic_strength};
     f.check_every = scene.fracture.check_every;
     f.volume = particleVolume(scene);
+    if (scene.fracture.volume == FractureVolume::Cells) {
+        // The tetrahedra of the initial centres, so that a restart rebuilds the same mesh.
+        f.cell_mesh = cellMeshOf(model.particles.initial_position);
+        f.cells.assign(model.particles.size(), 0.0);
+    }
     f.averaging = scene.fracture.averaging == FractureAveraging::Neighbours;
     if (f.averaging) {
         f.scratch.assign(model.particles.stress.size(), 0.0); // allocated only then
@@ -125,8 +136,13 @@ DamageTotals damageTotals(const Model& model) {
 }
 
 void describe(const Fracture& f, const Model&, const TimeStep&, std::ostream& log) {
-    log << "  fracture   hydrostatic release at " << f.law.strength * 1e3 << " MPa (eq 10 stress, Omega_i = sphere / "
-        << f.volume.packing_fraction << (f.averaging ? ", averaged with the bonded neighbours" : "")
+    log << "  fracture   hydrostatic release at " << f.law.strength * 1e3 << " MPa (eq 10 stress, Omega_i = ";
+    if (f.cells.empty()) {
+        log << "sphere / " << f.volume.packing_fraction;
+    } else {
+        log << "Delaunay cell";
+    }
+    log << (f.averaging ? ", averaged with the bonded neighbours" : "")
         << "), checked every " << f.check_every << " step(s)\n";
 }
 

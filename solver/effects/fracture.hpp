@@ -17,6 +17,7 @@
 #include "kernels/contact.hpp"
 #include "kernels/fracture.hpp"
 #include "kernels/virial_stress.hpp"
+#include "solver/model/tessellation.hpp"
 
 namespace vitrum {
 
@@ -51,7 +52,9 @@ struct PointForces {
 struct Fracture {
     HydrostaticRelease law;
     long check_every = 1;        ///< steps between evaluations of the criterion
-    ParticleVolume volume;       ///< Ω_i of eq (10)
+    ParticleVolume volume;       ///< Ω_i of eq (10) (its cell pointer set at each use from `cells`)
+    CellMesh cell_mesh;          ///< volume = "cells": the tetrahedra of the initial centres
+    std::vector<double> cells;   ///< volume = "cells": n cell volumes at the last evaluation, µm³
     bool averaging = false;      ///< eq (10) averaged with the bonded neighbours (Ω-weighted)
     std::vector<double> scratch; ///< 6n: eq (10) before the averaging (sized only with averaging)
     PointForces point_forces;    ///< the tool's contacts of the step, for eq (10)

@@ -34,7 +34,12 @@ std::optional<PressureLoads> buildPressureLoads(const Scene& scene, const Model&
 void addPressurePhase(Step& step) {
     step.add("loads.pressure", true, [](StepContext& c) {
         for (const PressureLoad& load : c.effects.pressure->loads) {
-            applyPressure(c.model.particles.view(), load.surface.view(), load.params.pressureAt(c.time));
+            if (load.params.kind == LoadKind::Stress) {
+                const std::array<double, 6> stress = load.params.stressAt(c.time);
+                applyStress(c.model.particles.view(), load.surface.view(), stress.data());
+            } else {
+                applyPressure(c.model.particles.view(), load.surface.view(), load.params.pressureAt(c.time));
+            }
         }
     });
 }

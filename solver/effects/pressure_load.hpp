@@ -1,5 +1,6 @@
-// The [[load]] effect: a hydrostatic pressure on the convex hull of a set's centres (solver/model/surface.hpp,
-// kernels/pressure.hpp), ramped, held and released as LoadParams::pressureAt says. Its phase:
+// The [[load]] effect: a hydrostatic pressure or a uniform stress tensor on the convex hull of a set's
+// centres (solver/model/surface.hpp, kernels/pressure.hpp), ramped, held and released as
+// LoadParams::profileAt says. Its phase:
 //   loads.pressure   after the gather (which overwrites the forces), before damping (which acts on the total)
 #pragma once
 

@@ -14,7 +14,7 @@
 //   contacts.update, contacts.forces                                               (contact)
 //   coupling.internal_loads                                                        (coupling with external loads)
 //   indenter.contact       tool contact forces and the tool reaction               (indenter)
-//   loads.pressure         hydrostatic pressure on a set's hull                    ([[load]])
+//   loads.pressure         pressure or uniform stress on a set's hull            ([[load]])
 //   coupling.split_external_loads                                                  (coupling with external loads)
 //   fracture.release       eq (10) stress and the hydrostatic criterion            (fracture)
 //   damping.cundall        local non-viscous damping of F and T                    (damping: cundall)

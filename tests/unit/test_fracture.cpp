@@ -126,13 +126,13 @@ TEST(VirialStress, NeighbourAveragingKeepsAUniformFieldAndDilutesASpike) {
     for (std::size_t q = 0; q < n; ++q) {
         for (int c = 0; c < 6; ++c) uniform[6 * q + c] = 0.1 * (c + 1);
     }
-    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), uniform.data(), out.data());
+    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), ParticleVolume{}, uniform.data(), out.data());
     for (std::size_t k = 0; k < out.size(); ++k) EXPECT_NEAR(out[k], uniform[k], 1e-15);
     // A spike on one particle of equal-sized neighbours: it keeps 1/(1 + z) of it, each neighbour 1/(1 + z_j).
     std::vector<double> spike(6 * n, 0.0);
     const std::size_t p = 40;
     spike[6 * p] = 1.0;
-    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), spike.data(), out.data());
+    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), ParticleVolume{}, spike.data(), out.data());
     EXPECT_NEAR(out[6 * p], 1.0 / (1 + m.incidence.degree(p)), 1e-15);
     const auto first = static_cast<std::size_t>(m.incidence.entry[m.incidence.offset[p]] >> 1);
     const std::size_t neighbour = static_cast<std::size_t>(m.bonds.i[first]) == p ? static_cast<std::size_t>(m.bonds.j[first])
@@ -140,7 +140,7 @@ TEST(VirialStress, NeighbourAveragingKeepsAUniformFieldAndDilutesASpike) {
     EXPECT_NEAR(out[6 * neighbour], 1.0 / (1 + m.incidence.degree(neighbour)), 1e-15);
     // A broken bond no longer links the two.
     m.bonds.broken[first] = 1;
-    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), spike.data(), out.data());
+    averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), ParticleVolume{}, spike.data(), out.data());
     EXPECT_EQ(out[6 * neighbour], 0.0);
     EXPECT_NEAR(out[6 * p], 1.0 / m.incidence.degree(p), 1e-15);
 }

@@ -7,6 +7,7 @@
 // truncation error: what is left is rounding, ~1e-16·V/h ≈ 1e-11 relative at h = 1e-4; 1e-9 bounds it.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
 #include <vector>
 
@@ -85,6 +86,77 @@ TEST(PressureLoad, ForceIsMinusPressureTimesVolumeGradientAndSumsToZero) {
     for (std::int32_t v : s.vertex) {
         EXPECT_LT(load3(p.force.data(), static_cast<std::size_t>(v)).dot(load3(p.position.data(), static_cast<std::size_t>(v))), 0.0);
     }
+}
+
+TEST(StressLoad, TractionsCarryTheStressTensorAndBalance) {
+    // The tractions σ·n lumped on the hull: zero net force and moment (σ symmetric), and the virial
+    // Σ_a x_a ⊗ F_a equals V σ exactly (x is linear on each flat face). Rounding only: the sums run over a
+    // few hundred terms of order |σ| A R, so 1e-12 of V |σ| bounds them.
+    std::vector<Vec3> x;
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> g(0.0, 1.0);
+    for (int k = 0; k < 300; ++k) {
+        Vec3 d(g(rng), g(rng), g(rng));
+        x.push_back(d.normalized() * (2.0 + 0.05 * g(rng)) + Vec3(0.3, -0.2, 0.5));
+    }
+    Particles p = Particles::spheres(x, std::vector<double>(x.size(), 0.1), 2.2);
+    const HullSurface s = convexHullOf(p.position.data(), iota(p.size()));
+    const double stress[6] = {1.5, -0.7, 0.4, 0.9, -1.1, 0.25}; // xx yy zz xy yz xz, GPa
+    std::fill(p.force.begin(), p.force.end(), 0.0);
+    applyStress(p.view(), s.view(), stress);
+    Vec3 total = Vec3::Zero(), moment = Vec3::Zero();
+    Eigen::Matrix3d virial = Eigen::Matrix3d::Zero();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec3 f = load3(p.force.data(), i), xi = load3(p.position.data(), i);
+        total += f;
+        moment += xi.cross(f);
+        virial += xi * f.transpose();
+    }
+    const double V = enclosedVolume(p.position.data(), s.view());
+    Eigen::Matrix3d sigma;
+    sigma << 1.5, 0.9, 0.25, 0.9, -0.7, -1.1, 0.25, -1.1, 0.4;
+    EXPECT_LT(total.norm(), 1e-12 * V);
+    EXPECT_LT(moment.norm(), 1e-12 * V);
+    EXPECT_LT((virial - V * sigma).norm(), 1e-12 * V * sigma.norm());
+    // σ = −P I is the pressure load, to rounding.
+    std::vector<double> by_pressure(p.force.size(), 0.0), by_stress(p.force.size(), 0.0);
+    std::fill(p.force.begin(), p.force.end(), 0.0);
+    applyPressure(p.view(), s.view(), 2.0);
+    by_pressure = p.force;
+    std::fill(p.force.begin(), p.force.end(), 0.0);
+    const double hydro[6] = {-2.0, -2.0, -2.0, 0.0, 0.0, 0.0};
+    applyStress(p.view(), s.view(), hydro);
+    for (std::size_t c = 0; c < p.force.size(); ++c) {
+        EXPECT_NEAR(p.force[c], by_pressure[c], 1e-14 * (1.0 + std::abs(by_pressure[c])));
+    }
+}
+
+TEST(StressLoad, SceneTableReadsTheTensorAndRefusesWhatDoesNotApply) {
+    const std::string head = "[sets]\nall = \"all\"\n[time]\nduration = 1\n[[load]]\nset = \"all\"\n";
+    const Scene s = parseScene(head + "kind = \"stress\"\nnormal_stress = [-1.0, -2.0, -3.0]\n"
+                                      "shear_stress = [0.5, 0.0, 0.0]\nramp_time = 2\n",
+                               "q.toml");
+    ASSERT_EQ(s.loads.size(), 1u);
+    EXPECT_EQ(s.loads[0].kind, LoadKind::Stress);
+    EXPECT_DOUBLE_EQ(s.loads[0].pressure, 2.0); // −tr σ / 3: the series' pressure column
+    const std::array<double, 6> half = s.loads[0].stressAt(1.0);
+    EXPECT_DOUBLE_EQ(half[2], -1.5);
+    EXPECT_DOUBLE_EQ(half[3], 0.25);
+    const std::string resolved = resolvedSceneToml(s);
+    EXPECT_EQ(parseScene(resolved, "r.toml").loads, s.loads);
+    const auto refused = [&](const std::string& body, const std::string& expected) {
+        try {
+            parseScene(head + body, "q.toml");
+            ADD_FAILURE() << "accepted: " << body;
+        } catch (const std::exception& e) {
+            EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+        }
+    };
+    refused("kind = \"stress\"\npressure = 1\n", "not used with kind = \"stress\"");
+    refused("kind = \"pressure\"\nshear_stress = [1, 0, 0]\n", "not used with kind = \"pressure\"");
+    refused("kind = \"stress\"\n", "normal_stress");
+    refused("kind = \"pressure\"\n", "pressure");
+    refused("kind = \"tension\"\npressure = 1\n", "one of");
 }
 
 TEST(PressureLoad, RampHoldRelease) {

@@ -234,7 +234,9 @@ const std::map<std::string, std::string> kEverySection = {
      "ramp_time = 0.25\n"},
     {"load",
      "[[load]]\nset = \"top\"\nkind = \"pressure\"\npressure = 3000\nramp_time = 0.002\nhold_time = 0.001\n"
-     "release_time = 0.003\n"},
+     "release_time = 0.003\n"
+     "[[load]]\nset = \"dome\"\nkind = \"stress\"\nnormal_stress = [-2000, 0, 150]\nshear_stress = [0, 700, -30]\n"
+     "ramp_time = 0.004\n"},
     {"damping", "[damping]\nkind = \"cundall\"\ncoefficient = 0.05\n"},
     {"densification",
      "[densification]\nyield_stress = 7130\ntangent_modulus = 98820\nmax_permanent_strain = 0.05\n"
