@@ -294,10 +294,17 @@ inline BeamKinematics laneOf(const BeamKinematicsT<Real>& k, int l) noexcept {
 /// bits) in a lane whose three angles lie in the series range, elsewhere the lane's values are not used.
 template <int W>
 [[gnu::always_inline]] inline KinematicsL<W> kinematicsL(const BondView& b, const ParticleView& p, const Block<W>& blk) noexcept {
-    return law::beamKinematics(gather3<W>(p.position, blk.i), gather3<W>(p.position, blk.j),
-                          particleQuats<W>(p.orientation, blk.i), particleQuats<W>(p.orientation, blk.j),
-                          bond3<W>(b.axis_i, blk), bond3<W>(b.axis_j, blk), bond4<W>(b.twist_ref, blk),
-                          bond1<W>(b.rest_length, blk));
+    // Gathered into named values first, in this order: as call arguments GCC evaluates them right to left,
+    // which keeps more of them live at once (measured: 4 % more instructions in the W = 4 block).
+    const Vec3L<W> xi = gather3<W>(p.position, blk.i);
+    const Vec3L<W> xj = gather3<W>(p.position, blk.j);
+    const QuatL<W> qi = particleQuats<W>(p.orientation, blk.i);
+    const QuatL<W> qj = particleQuats<W>(p.orientation, blk.j);
+    const Vec3L<W> ai = bond3<W>(b.axis_i, blk);
+    const Vec3L<W> aj = bond3<W>(b.axis_j, blk);
+    const QuatL<W> ref = bond4<W>(b.twist_ref, blk);
+    const typename Lanes<W>::Real rest_length = bond1<W>(b.rest_length, blk);
+    return law::beamKinematics(xi, xj, qi, qj, ai, aj, ref, rest_length);
 }
 
 // ---- the scalar path ----------------------------------------------------------------------------------------
