@@ -536,13 +536,23 @@ CheckpointMeta readCheckpoint(const std::string& path, RunState& state) {
         }
     }
     ContactHistory history;
-    if (state.contacts && H5Lexists(root, "contacts", H5P_DEFAULT) > 0) {
+    if (state.contacts) {
+        // The writer stores the history whenever the run has contacts (with count 0 when no spring is loaded),
+        // so a file without it is not one it wrote: continuing without the springs would silently differ.
+        if (H5Lexists(root, "contacts", H5P_DEFAULT) <= 0) {
+            reader.fail("no group '/contacts': a checkpoint without the contact history of effect contact");
+        }
         reader.store(root, "contacts", history, file_size);
         for (std::size_t k = 0; k < history.size(); ++k) {
             if (history.i[k] < 0 || history.i[k] >= history.j[k] || history.j[k] >= n_particles) {
                 reader.fail("contact " + std::to_string(k) + " joins particles " + std::to_string(history.i[k]) +
                             " and " + std::to_string(history.j[k]) + ", but there are " +
                             std::to_string(n_particles) + " particles");
+            }
+            // The list carries the springs over by a merge of two lists sorted by (i, j) (ContactList::build).
+            if (k > 0 && std::make_pair(history.i[k - 1], history.j[k - 1]) >= std::make_pair(history.i[k], history.j[k])) {
+                reader.fail("contacts " + std::to_string(k - 1) + " and " + std::to_string(k) +
+                            " are not in strictly increasing (i, j) order");
             }
         }
     }

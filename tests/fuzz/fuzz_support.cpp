@@ -12,6 +12,7 @@
 #include <system_error>
 #include <typeinfo>
 
+#include "kernels/parallel.hpp"
 #include "solver/errors.hpp"
 
 namespace vitrum::fuzz {
@@ -25,12 +26,15 @@ void finding(std::string_view target, const std::string& what) {
 }
 
 void expectAcceptedOrInputError(std::string_view target, const std::function<void()>& body) {
+    static const bool verbose = std::getenv("VITRUM_FUZZ_VERBOSE") != nullptr; // what each input gets
     try {
         body();
+        if (verbose) std::fprintf(stderr, "[%.*s] accepted\n", static_cast<int>(target.size()), target.data());
     } catch (const InputError& e) {
         if (std::string_view(e.what()).empty()) {
             finding(target, "InputError without a message");
         }
+        if (verbose) std::fprintf(stderr, "[%.*s] refused: %s\n", static_cast<int>(target.size()), target.data(), e.what());
     } catch (const std::exception& e) {
         finding(target, std::string("exception other than InputError (") + typeid(e).name() + "): " + e.what());
     } catch (...) {
@@ -64,6 +68,13 @@ protected:
 };
 
 NullBuffer g_null;
+
+/// One thread: the inputs are tiny, and idle OpenMP threads spinning between the kernels of a shared machine
+/// make each input take seconds instead of milliseconds.
+const bool g_one_thread = [] {
+    setThreadCount(1);
+    return true;
+}();
 
 } // namespace
 

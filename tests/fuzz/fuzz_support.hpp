@@ -19,7 +19,8 @@ namespace vitrum::fuzz {
 [[noreturn]] void finding(std::string_view target, const std::string& what);
 
 /// Runs `body` under the reader contract: returns normally when it returns or throws an InputError with a
-/// non-empty message; anything else is a finding of `target`.
+/// non-empty message; anything else is a finding of `target`. With VITRUM_FUZZ_VERBOSE set in the environment it
+/// prints what each input got (accepted, or the refusal's message).
 void expectAcceptedOrInputError(std::string_view target, const std::function<void()>& body);
 
 /// The fuzz bytes consumed front to back; past the end every read gives 0 (so any byte string is a recipe).

@@ -21,7 +21,6 @@ namespace {
 // ---- values -----------------------------------------------------------------------------------------------
 
 bool isNumber(Kind k) { return k != Kind::FixedString && k != Kind::VarString && k != Kind::Opaque; }
-bool isFloat(Kind k) { return k == Kind::F32 || k == Kind::F64; }
 
 std::size_t numberSize(Kind k) {
     switch (k) {
@@ -814,7 +813,7 @@ Node snapshot(const std::string& path) {
     const Id file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     if (!file.ok()) throw std::runtime_error("hdf5_forger: cannot open " + path);
     Node root;
-    root.name = "/";
+    root.name.push_back('/'); // not = "/": GCC 12 warns falsely (-Wrestrict, its bug 105329)
     H5Aiterate2(file.get(), H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, snapshotAttribute, &root);
     H5Literate(file.get(), H5_INDEX_NAME, H5_ITER_NATIVE, nullptr, snapshotLink, &root);
     return root;

@@ -2,7 +2,7 @@
 // gcc build of `make test`). It runs every file of the directories (or files) named on the command line through
 // the target, then a deterministic mutation loop (fixed seed: the same inputs every run) over them, so a reader
 // that starts crashing on a committed seed, a regression input or a near mutation of one fails ctest.
-//   fuzz_X_replay [--mutations N] [--seed S] [--max-len L] PATH...
+//   fuzz_X_replay [--mutations N] [--seed S] [--max-len L] [--report-slow MS] PATH...
 // A finding aborts (fuzz_support.hpp); the input being run is written to replay-crash-<pid>.bin in the working
 // directory first, and its origin printed, so it can be committed under tests/fuzz/regressions/<target>/.
 #include <fcntl.h>
@@ -51,11 +51,18 @@ void onCrash(int signal) {
     ::raise(signal);
 }
 
+double g_slow_ms = -1.0; // --report-slow: inputs slower than this are named
+
 void run(const std::vector<std::uint8_t>& input, const std::string& origin) {
     g_data = input.data();
     g_size = input.size();
     std::snprintf(g_origin, sizeof g_origin, "%s", origin.c_str());
+    const auto start = std::chrono::steady_clock::now();
     LLVMFuzzerTestOneInput(input.data(), input.size());
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (g_slow_ms >= 0.0 && ms > g_slow_ms) {
+        std::printf("replay: %.0f ms for %s\n", ms, origin.c_str());
+    }
 }
 
 std::vector<std::uint8_t> readBytes(const fs::path& path) {
@@ -122,6 +129,8 @@ int main(int argc, char** argv) {
             mutations = std::atol(argv[++k]);
         } else if (arg == "--seed" && k + 1 < argc) {
             seed = std::strtoull(argv[++k], nullptr, 10);
+        } else if (arg == "--report-slow" && k + 1 < argc) {
+            g_slow_ms = std::atof(argv[++k]);
         } else if (arg == "--max-len" && k + 1 < argc) {
             max_len = std::strtoull(argv[++k], nullptr, 10);
         } else {
