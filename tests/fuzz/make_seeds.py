@@ -95,6 +95,8 @@ class Recipe:
 
 
 def write(target, name, data):
+    if os.path.exists(os.path.join(HERE, "regressions", target, "recipe-" + name + ".bin")):
+        return  # a finding's input, kept under regressions/ instead
     directory = os.path.join(HERE, "corpus", target)
     os.makedirs(directory, exist_ok=True)
     with open(os.path.join(directory, "recipe-" + name + ".bin"), "wb") as f:

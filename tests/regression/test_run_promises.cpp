@@ -176,10 +176,10 @@ TEST(RunPromises, AFinalCheckpointThatCannotBeWrittenIsAnErrorNotACrash) {
         // (about 300 kB at 300 particles) does not. SIGXFSZ ignored, so the writes fail instead of killing.
         const fs::path out = dir / "full";
         const fs::path log = dir / "full.log";
-        const std::string cmd = "/bin/sh -c \"trap '' XFSZ; ulimit -f 200; exec '" + std::string(VITRUM_BINARY) +
-                                "' run " + kScene + " --out " + out.string() + args + "\" > '" + log.string() +
-                                "' 2>&1";
-        const int status = std::system(cmd.c_str());
+        const fs::path script = dir / "full.sh";
+        std::ofstream(script) << "trap '' XFSZ\nulimit -f 200\nexec '" << VITRUM_BINARY << "' run " << kScene
+                              << " --out " << out.string() << args << "\n";
+        const int status = std::system(("/bin/sh '" + script.string() + "' > '" + log.string() + "' 2>&1").c_str());
         ASSERT_TRUE(WIFEXITED(status)) << readText(log);
         EXPECT_EQ(WEXITSTATUS(status), 1) << "expected exit 1 (139: a crash)\n" << readText(log);
         const std::string text = readText(log);
