@@ -24,20 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }();
     const std::vector<std::string> overrides =
         fuzz::split(std::string_view(reinterpret_cast<const char*>(data), size), "\n", 16);
-    std::string resolved;
     fuzz::expectAcceptedOrInputError("set_override", [&] {
-        resolved = resolvedSceneToml(parseScene(scene_text, scene_path, overrides));
+        fuzz::expectResolvedRoundTrip("set_override", parseScene(scene_text, scene_path, overrides), scene_path);
     });
-    if (!resolved.empty()) {
-        try {
-            const std::string again = resolvedSceneToml(parseScene(resolved, scene_path));
-            if (again != resolved) {
-                fuzz::finding("set_override", "the resolved scene does not read back to itself:\n" + resolved +
-                                                  "\n--- read back ---\n" + again);
-            }
-        } catch (const std::exception& e) {
-            fuzz::finding("set_override", std::string("the resolved scene is refused: ") + e.what() + "\n" + resolved);
-        }
-    }
     return 0;
 }

@@ -12,6 +12,7 @@
 #include <system_error>
 #include <typeinfo>
 
+#include "io/scene_reader.hpp"
 #include "kernels/parallel.hpp"
 #include "solver/errors.hpp"
 
@@ -39,6 +40,18 @@ void expectAcceptedOrInputError(std::string_view target, const std::function<voi
         finding(target, std::string("exception other than InputError (") + typeid(e).name() + "): " + e.what());
     } catch (...) {
         finding(target, "exception that is not a std::exception");
+    }
+}
+
+void expectResolvedRoundTrip(std::string_view target, const Scene& scene, const std::string& source) {
+    const std::string resolved = resolvedSceneToml(scene);
+    try {
+        const std::string again = resolvedSceneToml(parseScene(resolved, source));
+        if (again != resolved) {
+            finding(target, "the resolved scene does not read back to itself:\n" + resolved + "\n--- read back ---\n" + again);
+        }
+    } catch (const std::exception& e) {
+        finding(target, std::string("the resolved scene is refused: ") + e.what() + "\n" + resolved);
     }
 }
 

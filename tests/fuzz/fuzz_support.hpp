@@ -13,7 +13,11 @@
 #include <string_view>
 #include <vector>
 
-namespace vitrum::fuzz {
+namespace vitrum {
+
+struct Scene;
+
+namespace fuzz {
 
 /// Prints "FUZZ FINDING [target]: what" to stderr and aborts.
 [[noreturn]] void finding(std::string_view target, const std::string& what);
@@ -22,6 +26,11 @@ namespace vitrum::fuzz {
 /// non-empty message; anything else is a finding of `target`. With VITRUM_FUZZ_VERBOSE set in the environment it
 /// prints what each input got (accepted, or the refusal's message).
 void expectAcceptedOrInputError(std::string_view target, const std::function<void()>& body);
+
+/// A scene the reader accepted must write a resolved scene that reads back, to the same resolved text (what a
+/// restart and `vitrum measure` rely on: they read resolved_scene.toml and compare its hash); `source` is the
+/// source name to read it under. Anything else is a finding of `target`.
+void expectResolvedRoundTrip(std::string_view target, const Scene& scene, const std::string& source);
 
 /// The fuzz bytes consumed front to back; past the end every read gives 0 (so any byte string is a recipe).
 class FuzzBytes {
@@ -73,4 +82,5 @@ private:
 /// The source tree (examples, the committed corpora), compiled in.
 std::string sourceDir();
 
-} // namespace vitrum::fuzz
+} // namespace fuzz
+} // namespace vitrum
