@@ -9,7 +9,7 @@
 # JOBS (default 1) sets the build's parallelism; the build and the runs are nice'd.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-targets_all="scene_reader packing_file checkpoint_file calibration_file set_override measure_inputs"
+targets_all="scene_reader packing_file checkpoint_file calibration_file set_override measure_inputs restart_outputs"
 if [[ "${1:-}" =~ ^[0-9]+$ ]]; then
     which=scene_reader
     seconds=$1
