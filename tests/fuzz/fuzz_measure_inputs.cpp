@@ -4,7 +4,8 @@
 // series.csv (a scene with sample.file would also read the packing: fuzz_packing_file covers that reader).
 // The fuzz bytes are three parts separated by "\n--8<--\n": summary.json, resolved_scene.toml, and a recipe
 // (hdf5_forger.hpp) for state.h5 applied to the indentation fixture's checkpoint (run_fixture.hpp); an empty or
-// missing part is the fixture's own file. The checkpoint's scene hash is set to the hash of the scene text
+// missing part is the fixture's own file, and bytes without a separator are the recipe alone (so most inputs
+// reach the measurements on a forged state). The checkpoint's scene hash is set to the hash of the scene text
 // written unless the recipe changed it, so an edited scene is measured rather than refused as another scene's.
 // measureRun must succeed or raise InputError.
 #include <algorithm>
@@ -27,8 +28,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     static const std::string out = fuzz::scratchDir() + "/measure-out";
     const fuzz::RunFixture& run = fuzz::RunFixture::indentation();
     std::filesystem::create_directories(dir);
-    const std::vector<std::string> parts =
+    std::vector<std::string> parts =
         fuzz::split(std::string_view(reinterpret_cast<const char*>(data), size), "\n--8<--\n", 3);
+    if (parts.size() == 1) {
+        parts.insert(parts.begin(), 2, std::string()); // no separator: the bytes are the state's recipe
+    }
     auto part = [&parts](std::size_t k) { return k < parts.size() ? parts[k] : std::string(); };
     const std::string summary = part(0).empty() ? "{\"scene_file\": \"" + run.scene_path + "\"}\n" : part(0);
     const std::string scene = part(1).empty() ? run.resolved : part(1);

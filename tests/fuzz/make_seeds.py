@@ -197,8 +197,7 @@ def checkpoint(build):
 
 def measure(build):
     binary = os.path.join(build, "tests/fuzz/fuzz_measure_inputs_replay")
-    sep = b"\n--8<--\n"
-    t = listing(binary, sep + sep)
+    t = listing(binary, b"")
     R = lambda: Recipe(t)
     recipes = {
         "valid": R(),
@@ -209,7 +208,7 @@ def measure(build):
         "fracture-state-absent": R().rows("/particles/released", "0"),
     }
     for name, r in recipes.items():
-        write("measure_inputs", name, sep + sep + bytes(r.b))
+        write("measure_inputs", name, bytes(r.b))  # no separator: a recipe alone
 
 
 def main():
