@@ -187,8 +187,8 @@ TEST(BadInputFiles, APackingDatasetClaimingMoreValuesThanTheFileHolds) {
 
 // Checkpoints of a small indentation with every effect that has checkpoint state but coupling: the state of an
 // effect of the scene missing (the restarted run's next step read past the empty arrays: SIGSEGV), the
-// indenter's controller or the contact history not finite or missing (the run went on from it). Each restart
-// is bad input naming the checkpoint and the field.
+// indenter's controller not finite (the run went on from it). Each restart is bad input naming the checkpoint
+// and the field.
 TEST(BadInputFiles, CheckpointsThatDoNotFitTheScenesEffects) {
     const fs::path dir = freshTempDir("bad-checkpoint");
     const fs::path scene = dir / "indent.toml";
@@ -220,8 +220,6 @@ TEST(BadInputFiles, CheckpointsThatDoNotFitTheScenesEffects) {
          "'/bonds/slip' holds 0 values"},
         {"IndenterTipNotFinite", [&](hid_t f) { replaceDataset(f, "/indenter/tip", H5T_NATIVE_DOUBLE, {1, 3}, &nan); },
          "not finite"},
-        {"ContactHistoryMissing", [](hid_t f) { ASSERT_GE(H5Ldelete(f, "/contacts", H5P_DEFAULT), 0); },
-         "no group '/contacts'"},
     };
     for (const Case& c : cases) {
         const fs::path state = dir / (std::string(c.name) + ".h5");
