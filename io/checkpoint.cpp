@@ -544,6 +544,11 @@ CheckpointMeta readCheckpoint(const std::string& path, RunState& state) {
                             " and " + std::to_string(history.j[k]) + ", but there are " +
                             std::to_string(n_particles) + " particles");
             }
+            // The list carries the springs over by a merge of two lists sorted by (i, j) (ContactList::build).
+            if (k > 0 && std::make_pair(history.i[k - 1], history.j[k - 1]) >= std::make_pair(history.i[k], history.j[k])) {
+                reader.fail("contacts " + std::to_string(k - 1) + " and " + std::to_string(k) +
+                            " are not in strictly increasing (i, j) order");
+            }
         }
     }
     std::optional<Indenter> indenter;

@@ -53,9 +53,10 @@ void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const 
 /// Reads a checkpoint written by writeCheckpoint into `state` (the stores replaced, byte-identical to what was
 /// written; the contact history restored onto the list, applied at its next build; the controller and the
 /// continuum's state overwritten) and returns its metadata. The parts `state` holds must be in the file
-/// (an indenter without /indenter is refused); the continuum's node count must match. Throws InputError naming
-/// the path and the problem (missing or non-HDF5 or truncated file, wrong format version, missing
-/// attribute/dataset, wrong type or shape, bond or contact index out of range); on error `state` is left
+/// (an indenter without /indenter is refused; a file without /contacts restores no contact history); the
+/// continuum's node count must match. Throws InputError naming the path and the problem (missing or non-HDF5 or
+/// truncated file, wrong format version, missing attribute/dataset, wrong type or shape, bond or contact index
+/// out of range, contacts out of (i, j) order); on error `state` is left
 /// untouched. Whether the state belongs to the run's scene is the caller's check (io/restart.hpp).
 CheckpointMeta readCheckpoint(const std::string& path, RunState& state);
 

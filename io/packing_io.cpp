@@ -264,7 +264,9 @@ void writeFile(const std::string& file_path, const std::string& shown_path, cons
 
 class Reader {
 public:
-    explicit Reader(std::string path) : path_(std::move(path)) {}
+    /// `file_size` bounds the number of values a dataset may claim: each takes at least one byte of the file
+    /// (savePacking stores them uncompressed), so a corrupt shape cannot ask for absurd memory.
+    Reader(std::string path, std::uintmax_t file_size) : path_(std::move(path)), file_size_(file_size) {}
 
     [[noreturn]] void fail(const std::string& what) const {
         throw InputError("packing file '" + path_ + "': " + what + hdf5Detail());
@@ -306,6 +308,11 @@ public:
             if (dims[d] != 0 && found[d] != dims[d]) {
                 fail(std::string("dataset '") + name + "' has dimension " + std::to_string(d) + " = " +
                      std::to_string(found[d]) + "; expected " + std::to_string(dims[d]));
+            }
+            // Checked per factor, so the product cannot wrap around.
+            if (found[d] != 0 && count > file_size_ / found[d]) {
+                fail(std::string("dataset '") + name + "' claims more values than the file's " +
+                     std::to_string(file_size_) + " bytes can hold (truncated or corrupt file?)");
             }
             count *= found[d];
         }
@@ -392,10 +399,10 @@ public:
 
 private:
     std::string path_;
+    std::uintmax_t file_size_;
 };
 
 Packing readFile(const std::string& path) {
-    const Reader r(path);
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) {
         throw InputError("packing file '" + path + "': no such file");
@@ -403,6 +410,11 @@ Packing readFile(const std::string& path) {
     if (!std::filesystem::is_regular_file(path, ec)) {
         throw InputError("packing file '" + path + "': not a regular file");
     }
+    const std::uintmax_t file_size = std::filesystem::file_size(path, ec);
+    if (ec) {
+        throw InputError("packing file '" + path + "': cannot read its size: " + ec.message());
+    }
+    const Reader r(path, file_size);
     const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
     if (is_hdf5 == 0) {
         r.fail("not an HDF5 file");

@@ -47,8 +47,9 @@ SeriesWriter SeriesWriter::continuing(const std::string& path, std::vector<std::
         expected += (expected.empty() ? "" : ",") + c;
     }
     if (header != expected) {
-        throw RuntimeFailure("cannot continue '" + path + "': its columns are not this run's (a series of another "
-                             "scene?); move it away to start a new one");
+        // The directory's content is the user's input to the restart: bad input (exit 2), like the checkpoint.
+        throw InputError("cannot continue '" + path + "': its columns are not this run's (a series of another "
+                         "scene?); move it away to start a new one");
     }
     std::string kept = header + "\n";
     const auto fields = [](const std::string& text) { return std::count(text.begin(), text.end(), ',') + 1; };

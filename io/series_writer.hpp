@@ -16,7 +16,8 @@ public:
     SeriesWriter(const std::string& path, std::vector<std::string> columns);
     /// Continues the series at `path` after a restart from step `through_step`: its rows before that step are
     /// kept (the header must be `columns`), the others dropped (the restarted run records them again, from the
-    /// checkpoint's step on), and the new rows appended. A missing file starts afresh.
+    /// checkpoint's step on), and the new rows appended. A missing file starts afresh. Throws InputError when the
+    /// header is not `columns`.
     static SeriesWriter continuing(const std::string& path, std::vector<std::string> columns, long through_step);
     void row(std::span<const double> values);
     /// Pushes buffered rows to the file, so the series can be read while the run goes on.

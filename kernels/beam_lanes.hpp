@@ -67,6 +67,25 @@ using Vec3L = Vec3T<typename Lanes<W>::Real>;
 template <int W>
 using QuatL = QuatT<typename Lanes<W>::Real>;
 
+// Two-input shuffle with a mask vector: GCC's __builtin_shuffle. clang (the fuzz build, tests/fuzz) has no such
+// builtin, so there the same selection is written element by element (constant masks fold to shuffles); what
+// GCC compiles is unchanged.
+#if defined(__clang__)
+template <class Real, class Mask>
+[[gnu::always_inline]] inline Real laneShuffle(Real a, Real b, Mask m) noexcept {
+    constexpr int n = static_cast<int>(sizeof(Real) / sizeof(double));
+    Real out{};
+    for (int e = 0; e < n; ++e) {
+        const int k = static_cast<int>(m[e] & (2 * n - 1));
+        out[e] = k < n ? a[k] : b[k - n];
+    }
+    return out;
+}
+#define VITRUM_LANE_SHUFFLE(a, b, m) laneShuffle(a, b, m)
+#else
+#define VITRUM_LANE_SHUFFLE(a, b, m) __builtin_shuffle(a, b, m)
+#endif
+
 // ---- gathers and stores -------------------------------------------------------------------------------------
 /// Indices of a block's W bonds; lanes past the last bond repeat it (computed, never stored).
 template <int W>
@@ -159,7 +178,7 @@ template <int W, std::size_t... L>
     const auto component = [&](auto c) {
         constexpr Mask first{split3Stage1<W>(decltype(c)::value, L)...};
         constexpr Mask second{split3Stage2<W>(decltype(c)::value, L)...};
-        return Real(__builtin_shuffle(__builtin_shuffle(v0, v1, first), v2, second));
+        return Real(VITRUM_LANE_SHUFFLE(VITRUM_LANE_SHUFFLE(v0, v1, first), v2, second));
     };
     return {component(std::integral_constant<int, 0>{}), component(std::integral_constant<int, 1>{}),
             component(std::integral_constant<int, 2>{})};
@@ -173,7 +192,7 @@ template <int W, std::size_t... L>
         constexpr Mask first{join3Stage1<W>(decltype(v)::value, L)...};
         constexpr Mask second{join3Stage2<W>(decltype(v)::value, L)...};
         storeRun<W>(a + decltype(v)::value * W,
-                    Real(__builtin_shuffle(__builtin_shuffle(x.x, x.y, first), x.z, second)));
+                    Real(VITRUM_LANE_SHUFFLE(VITRUM_LANE_SHUFFLE(x.x, x.y, first), x.z, second)));
     };
     out(std::integral_constant<int, 0>{});
     out(std::integral_constant<int, 1>{});
@@ -190,12 +209,12 @@ template <int W>
                                                       typename Lanes<W>::Mask low,
                                                       typename Lanes<W>::Mask high) noexcept {
     using Real = typename Lanes<W>::Real;
-    const Real wy01 = __builtin_shuffle(r0, r1, first_wy);
-    const Real xz01 = __builtin_shuffle(r0, r1, first_xz);
-    const Real wy23 = __builtin_shuffle(r2, r3, first_wy);
-    const Real xz23 = __builtin_shuffle(r2, r3, first_xz);
-    return {__builtin_shuffle(wy01, wy23, low), __builtin_shuffle(xz01, xz23, low),
-            __builtin_shuffle(wy01, wy23, high), __builtin_shuffle(xz01, xz23, high)};
+    const Real wy01 = VITRUM_LANE_SHUFFLE(r0, r1, first_wy);
+    const Real xz01 = VITRUM_LANE_SHUFFLE(r0, r1, first_xz);
+    const Real wy23 = VITRUM_LANE_SHUFFLE(r2, r3, first_wy);
+    const Real xz23 = VITRUM_LANE_SHUFFLE(r2, r3, first_xz);
+    return {VITRUM_LANE_SHUFFLE(wy01, wy23, low), VITRUM_LANE_SHUFFLE(xz01, xz23, low),
+            VITRUM_LANE_SHUFFLE(wy01, wy23, high), VITRUM_LANE_SHUFFLE(xz01, xz23, high)};
 }
 /// A run of W quaternions (4W contiguous doubles): even/odd elements give (w y) and (x z) pairs per half,
 /// their even/odd elements w, y and x, z.

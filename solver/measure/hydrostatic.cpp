@@ -75,7 +75,8 @@ void surfaceAndInterior(const Model& model, const PressureLoad& load, Hydrostati
         const Vec3 mid = 0.5 * (load3(x0, static_cast<std::size_t>(b.i[k])) + load3(x0, static_cast<std::size_t>(b.j[k])));
         const double depth = depthBelow(planes, mid);
         const bool slipped = b.slip[k] > 0.0;
-        const int bin = std::clamp(static_cast<int>(std::floor(depth / mean_radius)), 0, kBins - 1);
+        // Clamped as a double: the conversion of a depth beyond int would be undefined behaviour.
+        const int bin = static_cast<int>(std::clamp(std::floor(depth / mean_radius), 0.0, kBins - 1.0));
         ++count[bin];
         densified[bin] += slipped ? 1 : 0;
         if (depth >= r.interior_depth) {

@@ -51,10 +51,22 @@ std::vector<double> smooth(const std::vector<double>& f, int nx, int ny, double 
     return pass(pass(f, true), false);
 }
 
+/// A cell coordinate (already rounded) as an int clamped to [lo, hi], NaN giving `nan_to`: clamped before the
+/// conversion, which for a value beyond int (a particle far off the grid, as a corrupt checkpoint can place it)
+/// is undefined behaviour.
+int clampedCell(double cell, int lo, int hi, int nan_to) {
+    if (std::isnan(cell)) return nan_to;
+    return cell <= lo ? lo : cell >= hi ? hi : static_cast<int>(cell);
+}
+
 /// Bilinear interpolation of f at (x, y); NaN if any corner is NaN or outside.
 double bilinear(const std::vector<double>& f, const SurfaceGrid& g, double x, double y) {
     const double fx = (x - g.x0) / g.spacing;
     const double fy = (y - g.y0) / g.spacing;
+    // Outside is decided on the doubles, so the conversions below are of values inside the grid.
+    if (!(fx >= 0.0) || !(fy >= 0.0) || !(fx < g.nx - 1) || !(fy < g.ny - 1)) {
+        return kNaN;
+    }
     const int ix = static_cast<int>(std::floor(fx));
     const int iy = static_cast<int>(std::floor(fy));
     if (ix < 0 || iy < 0 || ix + 1 >= g.nx || iy + 1 >= g.ny) {
@@ -82,10 +94,11 @@ SurfaceGrid surfaceEnvelope(std::size_t n, const double* position, const double*
         const double yi = position[3 * i + 1];
         const double zi = position[3 * i + 2];
         const double r = radius[i];
-        const int ix0 = std::max(0, static_cast<int>(std::ceil((xi - r - g.x0) / spacing)));
-        const int ix1 = std::min(g.nx - 1, static_cast<int>(std::floor((xi + r - g.x0) / spacing)));
-        const int iy0 = std::max(0, static_cast<int>(std::ceil((yi - r - g.y0) / spacing)));
-        const int iy1 = std::min(g.ny - 1, static_cast<int>(std::floor((yi + r - g.y0) / spacing)));
+        // The cells the sphere covers, clamped to the grid (an empty range when it is off the grid).
+        const int ix0 = clampedCell(std::ceil((xi - r - g.x0) / spacing), 0, g.nx, g.nx);
+        const int ix1 = clampedCell(std::floor((xi + r - g.x0) / spacing), -1, g.nx - 1, -1);
+        const int iy0 = clampedCell(std::ceil((yi - r - g.y0) / spacing), 0, g.ny, g.ny);
+        const int iy1 = clampedCell(std::floor((yi + r - g.y0) / spacing), -1, g.ny - 1, -1);
         for (int iy = iy0; iy <= iy1; ++iy) {
             const double dy = g.y(iy) - yi;
             for (int ix = ix0; ix <= ix1; ++ix) {

@@ -1,15 +1,18 @@
 // What `vitrum run` promises a user about their files, each promise a test (issue 28): bad input writes
 // nothing and leaves the output directory as it was; a restart continues the series and the maps; a complete
 // run restarted is unchanged; two runs into one directory are refused; a scene name is a file name; an
-// impossible time step or a tool beside the sample is bad input; CLI values are checked with a clear message.
+// impossible time step or a tool beside the sample is bad input; CLI values are checked with a clear message; a
+// final checkpoint that cannot be written is an error (exit 1), not a crash.
 // The scene is the quickstart at 300 particles (about 12 000 steps, a few seconds).
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <gtest/gtest.h>
@@ -147,6 +150,44 @@ TEST(RunPromises, BadInputFoundAfterReadingTheSceneWritesNothing) {
     // one no checkout or temporary directory carries (a clone in /tmp/x made "x" a false alarm).
     EXPECT_FALSE(fs::exists(fs::path(VITRUM_SOURCE_DIR).parent_path() / "vitrum-name-escape"));
     EXPECT_FALSE(fs::exists(dir.parent_path() / "vitrum-name-escape"));
+}
+
+// The final checkpoint cannot be written: the run says so and exits 1, it does not crash. Two ways that hold
+// for root too (the tests run as root, whom a read-only directory does not stop): the name state.h5 taken by a
+// directory (the rename onto it fails), and a file-size limit the checkpoint does not fit in (every write
+// beyond it fails with EFBIG, as on a full disk: HDF5's flush and close fail, the case that used to crash
+// with SIGSEGV in HDF5's exit-time clean-up after the error was reported; io/checkpoint.hpp
+// disableHdf5ExitCleanup). Only the final checkpoint is written (output.checkpoints = 0, no maps).
+TEST(RunPromises, AFinalCheckpointThatCannotBeWrittenIsAnErrorNotACrash) {
+    const fs::path dir = freshTempDir("promise-final-checkpoint");
+    const std::string args = " --quiet --threads 1 --set sample.particles=300 --set 'sample.file=\"\"' "
+                             "--set output.maps=0 --set output.checkpoints=0";
+    {
+        const fs::path out = dir / "taken";
+        fs::create_directories(out / "state.h5" / "not-a-checkpoint");
+        const std::string log = run("run " + kScene + " --out " + out.string() + args, dir / "taken.log", 1);
+        EXPECT_NE(log.find("cannot write checkpoint '" + (out / "state.h5").string() + "'"), std::string::npos) << log;
+        EXPECT_TRUE(fs::is_directory(out / "state.h5" / "not-a-checkpoint")) << "the run removed what held the name";
+        EXPECT_FALSE(fs::exists(out / "state.h5.tmp"));
+        EXPECT_FALSE(fs::exists(out / "summary.json"));
+    }
+    {
+        // 200 blocks of 512 bytes (dash's ulimit -f): the scene, the series and the log fit, the checkpoint
+        // (about 300 kB at 300 particles) does not. SIGXFSZ ignored, so the writes fail instead of killing.
+        const fs::path out = dir / "full";
+        const fs::path log = dir / "full.log";
+        const fs::path script = dir / "full.sh";
+        std::ofstream(script) << "trap '' XFSZ\nulimit -f 200\nexec '" << VITRUM_BINARY << "' run " << kScene
+                              << " --out " << out.string() << args << "\n";
+        const int status = std::system(("/bin/sh '" + script.string() + "' > '" + log.string() + "' 2>&1").c_str());
+        ASSERT_TRUE(WIFEXITED(status)) << readText(log);
+        EXPECT_EQ(WEXITSTATUS(status), 1) << "expected exit 1 (139: a crash)\n" << readText(log);
+        const std::string text = readText(log);
+        EXPECT_NE(text.find("cannot write checkpoint '" + (out / "state.h5").string() + "'"), std::string::npos) << text;
+        EXPECT_FALSE(fs::exists(out / "state.h5"));
+        EXPECT_FALSE(fs::exists(out / "state.h5.tmp"));
+        EXPECT_TRUE(fs::exists(out / "series.csv"));
+    }
 }
 
 TEST(RunPromises, CommandLineValuesAreCheckedWithAClearMessage) {
