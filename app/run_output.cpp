@@ -1,6 +1,7 @@
 #include "app/run_output.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -99,7 +100,7 @@ const DerivedField kDerivedFields[] = {
      }},
     {"densification",
      // Residual volumetric strain of the bonded neighbourhood (kernels/strain.hpp), the density change it
-     // implies, and the slider's own measure (−3 × mean bond slip) when densifying.
+     // implies, the slider's own measure (−3 × mean bond slip) when densifying, and the cap law's state.
      [](Model& m, Effects& fx, Buffers& b, std::vector<FieldView>& views) {
          const Particles& p = m.particles;
          b.volumetric.assign(p.size(), 0.0);
@@ -115,6 +116,14 @@ const DerivedField kDerivedFields[] = {
              b.slider.assign(p.size(), 0.0);
              sliderVolumetricStrain(m.incidence.view(), m.bonds.slip.data(), b.slider.data());
              views.push_back({"slider_volumetric_strain", 1, b.slider.data()});
+         }
+         if (fx.plasticity) { // the cap law's own state: Δρ/ρ = exp(e) − 1 and γ̄
+             b.plastic_density.resize(p.size());
+             for (std::size_t i = 0; i < p.size(); ++i) {
+                 b.plastic_density[i] = std::expm1(p.compaction[i]);
+             }
+             views.push_back({"plastic_density_change", 1, b.plastic_density.data()});
+             views.push_back({"plastic_shear_strain", 1, p.plastic_shear.data()});
          }
      }},
     {"tool",

@@ -44,7 +44,7 @@ public:
 
     /// Buffers of the derived fields, reused between maps.
     struct Buffers {
-        std::vector<double> coordination, displacement, volumetric, density_change, slider;
+        std::vector<double> coordination, displacement, volumetric, density_change, slider, plastic_density;
         DamageFieldBuffers damage;
     };
 

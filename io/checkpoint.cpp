@@ -45,11 +45,12 @@ static_assert(sizeof(ContactHistory) == fieldCount<ContactHistory>() * sizeof(st
               "a member was added to ContactHistory: add it to forEachField(ContactHistory&) in "
               "solver/effects/contact.hpp");
 
-/// Per-bond state of an optional effect (densification): sized only when the effect is on, so it may be
+/// Per-bond or per-particle state of an optional effect (densification, fracture, plasticity): sized only when the effect is on, so it may be
 /// empty; it is then stored with 0 rows and read back empty.
 bool effectField(std::string_view name) {
     return name == "slip" || name == "reference_strain" || name == "stress" || name == "released" ||
-           name == "release_step" || name == "broken_bonds";
+           name == "release_step" || name == "broken_bonds" || name == "plastic_strain" || name == "compaction" ||
+           name == "plastic_shear" || name == "plastic_work";
 }
 
 // --- HDF5 plumbing -----------------------------------------------------------------------------------------

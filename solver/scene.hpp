@@ -38,10 +38,10 @@ template <class E> constexpr std::optional<E> enumFromName(std::string_view name
 }
 
 /// The 1 + 6 effects of DESIGN.md §4.
-enum class Effect { Elasticity, Densification, Fracture, Contact, Indenter, Coupling, Damping };
+enum class Effect { Elasticity, Densification, Fracture, Contact, Indenter, Coupling, Damping, Plasticity };
 template <> struct EnumNames<Effect> {
-    static constexpr std::array<std::string_view, 7> names = {
-        "elasticity", "densification", "fracture", "contact", "indenter", "coupling", "damping"};
+    static constexpr std::array<std::string_view, 8> names = {
+        "elasticity", "densification", "fracture", "contact", "indenter", "coupling", "damping", "plasticity"};
 };
 
 enum class Lattice { Sc, Fcc, Random };
@@ -91,6 +91,21 @@ template <> struct EnumNames<FractureVolume> {
 /// neighbours.
 enum class FractureAveraging { None, Neighbours };
 template <> struct EnumNames<FractureAveraging> {
+    static constexpr std::array<std::string_view, 2> names = {"none", "neighbours"};
+};
+
+enum class CapLaw { Bruns2020, Kermouche2008, Molnar2017, Custom };
+template <> struct EnumNames<CapLaw> {
+    static constexpr std::array<std::string_view, 4> names = {"bruns2020", "kermouche2008", "molnar2017", "custom"};
+};
+
+enum class CapHardeningKind { Sigmoid, Linear };
+template <> struct EnumNames<CapHardeningKind> {
+    static constexpr std::array<std::string_view, 2> names = {"sigmoid", "linear"};
+};
+
+enum class StrainAveraging { None, Neighbours };
+template <> struct EnumNames<StrainAveraging> {
     static constexpr std::array<std::string_view, 2> names = {"none", "neighbours"};
 };
 
@@ -268,6 +283,28 @@ struct DensificationParams {
     bool operator==(const DensificationParams&) const = default;
 };
 
+/// Effect `plasticity` (kernels/plastic_flow.hpp, kernels/cap_plasticity.hpp): the cap law of silica on each
+/// particle's kinematic strain; its plastic strain moves the rest state of the particle's bonds. The law's
+/// parameters are those of a published preset, or given one by one with law = "custom".
+struct PlasticityParams {
+    CapLaw law = CapLaw::Bruns2020;
+    double shear_limit = 7.5;           ///< q_y, GPa (custom)
+    double cap_ratio = 1.066;           ///< R (custom)
+    CapHardeningKind hardening = CapHardeningKind::Sigmoid; ///< (custom)
+    double onset_pressure = 8.0;        ///< p_b0, GPa (custom)
+    double saturation = 0.21;           ///< d_s, Δρ/ρ at saturation (custom)
+    double sigmoid_amplitude = 4059.0;  ///< A (custom, sigmoid)
+    double sigmoid_pressure = 1.7;      ///< P_s, GPa (custom, sigmoid)
+    double hardening_modulus = 100.0;   ///< H = dp_b/de, GPa (custom, linear)
+    double young = 0.0;                 ///< E of the elastic metric, GPa (resolved: calibration or explicit)
+    double poisson = 0.0;               ///< ν of the elastic metric
+    std::string material_source;        ///< where E, ν come from (for the log)
+    StrainAveraging averaging = StrainAveraging::Neighbours; ///< the strain judged
+    long check_every = 1;               ///< steps between returns
+
+    bool operator==(const PlasticityParams&) const = default;
+};
+
 /// Effect `indenter`: a rigid tool driven along −z on the sample's axis (kernels/indenter.hpp) through the
 /// scene's stages (solver/effects/indenter.hpp).
 struct IndenterParams {
@@ -398,6 +435,7 @@ struct Scene {
     std::vector<LoadParams> loads; ///< [[load]]
     DampingParams damping;
     DensificationParams densification;
+    PlasticityParams plasticity;       ///< effect plasticity
     FractureParams fracture;           ///< effect fracture
     ContactParams contact;             ///< effect contact (on with fracture)
     IndenterParams indenter;          ///< effect indenter

@@ -19,6 +19,7 @@ const std::vector<Section>& sceneSections() {
     static const std::vector<Section> sections = {
         sceneSection(),    unitsSection(),    effectsSection(),  sampleSection(),  materialSection(),
         setsSection(),     boundarySection(), loadSection(),     dampingSection(), densificationSection(),
+        plasticitySection(),
         indenterSection(), stageSection(),    fractureSection(), contactSection(), couplingSection(),
         timeSection(),     measureSection(),  outputSection(),
     };

@@ -71,6 +71,7 @@ Section measureSection();
 Section outputSection();
 // sections_effects.cpp
 Section densificationSection();
+Section plasticitySection();
 Section fractureSection();
 Section contactSection();
 Section couplingSection();

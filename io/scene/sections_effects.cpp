@@ -5,6 +5,7 @@
 
 #include "io/scene/sections.hpp"
 #include "io/units.hpp"
+#include "solver/model/sample.hpp"
 #include "solver/errors.hpp"
 
 namespace vitrum::scene_io {
@@ -144,6 +145,108 @@ Section densificationSection() {
         member<&Scene::densification>, &densificationKeys, readDensification);
 }
 
+// --- [plasticity] ------------------------------------------------------------------------------------------
+
+const std::vector<Key<PlasticityParams>>& plasticityKeys() {
+    using S = PlasticityParams;
+    const auto custom = [](const S& p) { return p.law == CapLaw::Custom; };
+    const auto sigmoid = [](const S& p) {
+        return p.law == CapLaw::Custom && p.hardening == CapHardeningKind::Sigmoid;
+    };
+    const auto linear = [](const S& p) { return p.law == CapLaw::Custom && p.hardening == CapHardeningKind::Linear; };
+    const auto notWithLaw = notUsedWith("law", &S::law);
+    const auto notWithHardening = [](const S& p, const toml::node& node) {
+        return p.law != CapLaw::Custom ? "not used with law = " + tomlString(nameOf(p.law)) + ", got " + describe(node)
+                                       : "not used with hardening = " + tomlString(nameOf(p.hardening)) + ", got " +
+                                             describe(node);
+    };
+    static const std::vector<Key<S>> keys = {
+        choice<S>("law", &S::law,
+                  "the cap law: a published silica (Bruns 2020, Kermouche 2008, Molnar 2017) or custom "
+                  "(the keys below)"),
+        number<S>("shear_limit", &S::shear_limit, Unit::Stress, kPositive, "q_y, the flat shear limit (C2)")
+            .onlyWhen(custom, notWithLaw),
+        number<S>("cap_ratio", &S::cap_ratio, Unit::None, kPositive,
+                  "R: the cap's half-axes are R q_y along p and q_y along q (C3)")
+            .onlyWhen(custom, notWithLaw),
+        choice<S>("hardening", &S::hardening, "p_b(e): Bruns's sigmoid (H1-H2) or linear p_b0 + H e")
+            .onlyWhen(custom, notWithLaw),
+        number<S>("onset_pressure", &S::onset_pressure, Unit::Stress, kPositive,
+                  "p_b0, the hydrostatic yield pressure of the virgin material")
+            .onlyWhen(custom, notWithLaw),
+        number<S>("saturation", &S::saturation, Unit::None, Range{0.0, 1.0, true, true},
+                  "d_s, the densification (Delta rho / rho) at saturation")
+            .onlyWhen(custom, notWithLaw),
+        number<S>("sigmoid_amplitude", &S::sigmoid_amplitude, Unit::None, kPositive, "A of the sigmoid (H1)")
+            .onlyWhen(sigmoid, notWithHardening),
+        number<S>("sigmoid_pressure", &S::sigmoid_pressure, Unit::Stress, kPositive, "P_s of the sigmoid (H1)")
+            .onlyWhen(sigmoid, notWithHardening),
+        number<S>("hardening_modulus", &S::hardening_modulus, Unit::Stress, kNonNegative,
+                  "H = dp_b/de of the linear hardening")
+            .onlyWhen(linear, notWithHardening),
+        number<S>("young_modulus", &S::young, Unit::Stress, kPositive,
+                  "E of the elastic law the strain is judged with (with poisson_ratio)")
+            .defaultIs("the target of [material] calibration"),
+        number<S>("poisson_ratio", &S::poisson, Unit::None, Range{-1.0, 0.5, true, true},
+                  "nu of that law (with young_modulus)")
+            .defaultIs("the target of [material] calibration"),
+        choice<S>("averaging", &S::averaging,
+                  "the strain judged: each particle's own, or the mean F over it and its bonded neighbours"),
+        integer<S>("check_every", &S::check_every, 1, "steps between returns"),
+    };
+    return keys;
+}
+
+void readPlasticity(SceneReading& r) {
+    const TableReader table = r.top.subtable("plasticity");
+    if (!effectTable(table, r.scene, Effect::Plasticity)) {
+        return;
+    }
+    const Scene& scene = r.scene;
+    PlasticityParams& p = r.scene.plasticity;
+    // Not with densification or coupling: refused where effects.list is read (sections_sample.cpp).
+    readKeys(table, plasticityKeys(), p, r);
+    const bool young = table.find("young_modulus") != nullptr;
+    const bool poisson = table.find("poisson_ratio") != nullptr;
+    if (young != poisson) {
+        table.missing(young ? "poisson_ratio" : "young_modulus",
+                      std::string("a value beside plasticity.") + (young ? "young_modulus" : "poisson_ratio") +
+                          " (give both, or neither to take them from [material] calibration)");
+    }
+    if (young) {
+        p.material_source = "explicit ([plasticity] young_modulus, poisson_ratio)";
+        return;
+    }
+    const std::optional<CalibrationFile>& cal = r.material_calibration;
+    if (!cal || cal->micro.beam_young != scene.material.beam_young ||
+        cal->micro.radius_ratio != scene.material.radius_ratio) {
+        table.missing("young_modulus",
+                      "the elastic law the strain is judged with: plasticity.young_modulus and "
+                      "plasticity.poisson_ratio, or [material] calibration with its own micro-parameters (the "
+                      "packing's calibrated E, nu)");
+    }
+    p.young = cal->target_young;
+    p.poisson = cal->target_poisson;
+    p.material_source = "calibration of the packing ([material] calibration: the target E, nu)";
+}
+
+Section plasticitySection() {
+    Section s = effectSection<PlasticityParams>(
+        Effect::Plasticity,
+        "Effect plasticity (issue 26; kernels/plastic_flow.hpp): silica's cap law (a flat shear limit and a "
+        "hardening elliptic cap in p, q) on each particle's strain; the plastic strain moves the rest states of "
+        "its bonds. Not with densification or coupling.",
+        member<&Scene::plasticity>, &plasticityKeys, readPlasticity);
+    s.write = [](const Scene& scene, const Units& units, std::vector<std::string>& blocks) {
+        if (scene.hasEffect(Effect::Plasticity)) {
+            std::string out = "[plasticity]   # elastic law: " + scene.plasticity.material_source + "\n";
+            writeKeys(out, plasticityKeys(), scene.plasticity, units);
+            blocks.push_back(out);
+        }
+    };
+    return s;
+}
+
 // --- [fracture] --------------------------------------------------------------------------------------------
 
 const std::vector<Key<FractureParams>>& fractureKeys() {
@@ -176,11 +279,7 @@ void readFracture(SceneReading& r) {
     readKeys(table, fractureKeys(), f, r);
     if (!table.find("packing_fraction")) {
         // Ω_i = sphere / φ with the sample's φ: random packings their target, lattices their exact value.
-        const Lattice lattice = r.scene.sample.lattice;
-        f.packing_fraction = f.volume == FractureVolume::Sphere ? 1.0
-                             : lattice == Lattice::Sc           ? std::numbers::pi / 6.0
-                             : lattice == Lattice::Fcc ? std::numbers::pi / (3.0 * std::numbers::sqrt2)
-                                                       : r.scene.sample.packing_fraction;
+        f.packing_fraction = f.volume == FractureVolume::Sphere ? 1.0 : samplePackingFraction(r.scene.sample);
     }
 }
 

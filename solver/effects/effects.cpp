@@ -9,6 +9,7 @@ namespace vitrum {
 Effects buildEffects(const Scene& scene, Model& model) {
     Effects fx;
     fx.densification = buildDensification(scene, model);
+    fx.plasticity = buildPlasticity(scene, model);
     fx.damping = buildDamping(scene);
     fx.contact = buildContact(scene, model);
     fx.fracture = buildFracture(scene, model);

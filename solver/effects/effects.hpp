@@ -13,6 +13,7 @@
 #include "solver/effects/densification.hpp"
 #include "solver/effects/fracture.hpp"
 #include "solver/effects/indenter.hpp"
+#include "solver/effects/plasticity.hpp"
 #include "solver/effects/pressure_load.hpp"
 
 namespace vitrum {
@@ -23,6 +24,7 @@ struct Scene;
 
 struct Effects {
     std::optional<Densification> densification; ///< spring-slider in series with every beam
+    std::optional<Plasticity> plasticity;       ///< the cap law on the particles' strain, moving rest states
     std::optional<Damping> damping;             ///< explicit, reported damping
     std::optional<Contact> contact;             ///< unbonded contacts (on with fracture)
     std::optional<Indenter> indenter;           ///< the rigid tool and its stage controller
@@ -42,6 +44,7 @@ Effects buildEffects(const Scene& scene, Model& model);
 template <class E, class F>
 void forEachEffect(E& effects, F&& visit) {
     if (effects.densification) visit(*effects.densification);
+    if (effects.plasticity) visit(*effects.plasticity);
     if (effects.damping) visit(*effects.damping);
     if (effects.contact) visit(*effects.contact);
     if (effects.indenter) visit(*effects.indenter);

@@ -7,6 +7,7 @@
 #include "solver/effects/contact.hpp"
 #include "solver/effects/indenter.hpp"
 #include "solver/model/model.hpp"
+#include "solver/model/sample.hpp"
 #include "solver/step/time_step.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
@@ -21,14 +22,7 @@ ParticleVolume particleVolume(const Scene& scene) {
     if (f.packing_fraction > 0.0) {
         return {f.packing_fraction};
     }
-    const Lattice lattice = scene.sample.lattice;
-    if (lattice == Lattice::Sc) {
-        return {std::numbers::pi / 6.0};
-    }
-    if (lattice == Lattice::Fcc) {
-        return {std::numbers::pi / (3.0 * std::numbers::sqrt2)};
-    }
-    return {scene.sample.packing_fraction};
+    return {samplePackingFraction(scene.sample)};
 }
 
 namespace {

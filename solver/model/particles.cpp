@@ -38,6 +38,16 @@ void Particles::enableFracture() {
     }
 }
 
+void Particles::enablePlasticity() {
+    const std::size_t n = size();
+    if (compaction.size() != n) {
+        plastic_strain.assign(6 * n, 0.0);
+        compaction.assign(n, 0.0);
+        plastic_shear.assign(n, 0.0);
+        plastic_work.assign(n, 0.0);
+    }
+}
+
 DamageView Particles::damageView() {
     return {size(), stress.data(), released.data(), release_step.data(), broken_bonds.data()};
 }

@@ -30,6 +30,11 @@ struct Particles {
     std::vector<std::uint8_t> released;     ///< n, 1 once released
     std::vector<std::int64_t> release_step; ///< n, step of release, −1 while intact
     std::vector<std::int32_t> broken_bonds; ///< n, broken incident bonds
+    // Effect `plasticity` only (kernels/plastic_flow.hpp); empty otherwise. Sized by enablePlasticity().
+    std::vector<double> plastic_strain; ///< 6n, E^p, Green–Lagrange in the initial frame (xx yy zz xy yz xz)
+    std::vector<double> compaction;     ///< n, e, plastic volumetric log-strain (compaction positive)
+    std::vector<double> plastic_shear;  ///< n, γ̄, accumulated equivalent deviatoric plastic strain
+    std::vector<double> plastic_work;   ///< n, Σ σ:Δε^p, GPa (dissipated energy per volume, 1 GPa = 1 nJ/µm³)
 
     std::size_t size() const { return radius.size(); }
 
@@ -41,6 +46,9 @@ struct Particles {
     /// Sizes the fracture state (intact, zero stress) if it is not sized yet.
     void enableFracture();
     bool fractureEnabled() const { return released.size() == size() && size() > 0; }
+    /// Sizes the plastic state (virgin) if it is not sized yet.
+    void enablePlasticity();
+    bool plasticityEnabled() const { return compaction.size() == size() && size() > 0; }
     /// The damage state; requires enableFracture().
     DamageView damageView();
 };
@@ -70,6 +78,10 @@ constexpr void forEachField(P& p, F&& field) {
     field(Field{"released", 1, ""}, p.released);         // effect fracture
     field(Field{"release_step", 1, ""}, p.release_step); // effect fracture
     field(Field{"broken_bonds", 1, ""}, p.broken_bonds); // effect fracture
+    field(Field{"plastic_strain", 6, ""}, p.plastic_strain); // effect plasticity
+    field(Field{"compaction", 1, ""}, p.compaction);         // effect plasticity
+    field(Field{"plastic_shear", 1, ""}, p.plastic_shear);   // effect plasticity
+    field(Field{"plastic_work", 1, "GPa"}, p.plastic_work);  // effect plasticity
 }
 
 } // namespace vitrum

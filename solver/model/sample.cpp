@@ -26,6 +26,12 @@ double shapeVolume(const SampleParams& s) {
     throw std::invalid_argument("unknown sample shape");
 }
 
+double samplePackingFraction(const SampleParams& params) {
+    return params.lattice == Lattice::Sc    ? std::numbers::pi / 6.0
+           : params.lattice == Lattice::Fcc ? std::numbers::pi / (3.0 * std::numbers::sqrt2)
+                                            : params.packing_fraction;
+}
+
 bool insideShape(const SampleParams& s, const Vec3& x) {
     if (s.shape == SampleShape::Box) {
         return (x.array() >= 0.0).all() && (x.array() <= s.size.array()).all();

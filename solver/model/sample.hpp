@@ -27,6 +27,9 @@ double shapeVolume(const SampleParams& params);
 /// True when point x lies inside the shape.
 bool insideShape(const SampleParams& params, const Vec3& x);
 
+/// The packing fraction φ of the sample: π/6 (sc), π/(3√2) (fcc), the random packing's target.
+double samplePackingFraction(const SampleParams& params);
+
 /// A lattice of equal spheres (touching neighbours: R = half the nearest-neighbour distance) whose spacing
 /// gives about params.particles centres inside the shape, ordered along a Morton (Z-order) curve so that
 /// neighbours in space are neighbours in memory.

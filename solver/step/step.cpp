@@ -139,6 +139,7 @@ Step composeStep(const Model& model, const Effects& fx) {
     coupled ? addCoupledKickDriftPhase(step) : addKickDriftPhase(step);
     if (hasDisplacementBoundary(model)) addPrescribedDisplacementPhase(step);
     if (fx.indenter) addIndenterMovePhase(step);
+    if (fx.plasticity) addPlasticityPhase(step);
     addBondPhase(step, fx);
     addGatherPhase(step);
     if (fx.contact) addContactPhases(step);

@@ -6,6 +6,7 @@
 //   integrate.kick_drift   v,ω += Δt/2·F/m, T/J; x += Δt v; q ← exp(Δt ω/2) q     (coupled: coupling.kick_drift)
 //   bc.prescribe           displacement ramps of constrained sets                 (a displacement boundary)
 //   indenter.move          stage logic, then the tip moves                         (indenter)
+//   plasticity.return      cap return on the particles' strain; bonds' rest states (plasticity)
 //   bonds.beam_loads       Euler–Bernoulli beam loads per bond, eqs (1)–(4)        (always)
 //                          + the spring-slider in the same pass                    (densification)
 //                          + bond-viscous dashpots                                 (damping: bond-viscous)

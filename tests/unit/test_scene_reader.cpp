@@ -132,6 +132,7 @@ std::string differences(const Scene& a, const Scene& b) {
     check(a.loads == b.loads, "loads");
     check(a.damping == b.damping, "damping");
     check(a.densification == b.densification, "densification");
+    check(a.plasticity == b.plasticity, "plasticity");
     check(a.fracture == b.fracture, "fracture");
     check(a.contact == b.contact, "contact");
     check(a.indenter == b.indenter, "indenter");
@@ -147,12 +148,14 @@ std::string differences(const Scene& a, const Scene& b) {
 /// read -> resolvedSceneToml -> read gives the same scene, every member exactly (the resolved TOML must
 /// reproduce every double bit for bit), and the same resolved text. Where values came from is not a value:
 /// the resolved scene gives the calibrated numbers instead of the calibration file, so material.calibration
-/// reads back empty and coupling.material_source as explicit; those two are carried over before comparing.
+/// reads back empty and coupling.material_source, plasticity.material_source as explicit; those are carried
+/// over before comparing.
 void expectRoundTrip(const Scene& scene) {
     const std::string resolved = resolvedSceneToml(scene);
     Scene back = parseScene(resolved, scene.source_path);
     back.material.calibration = scene.material.calibration;
     back.coupling.material_source = scene.coupling.material_source;
+    back.plasticity.material_source = scene.plasticity.material_source;
     EXPECT_TRUE(back == scene) << differences(scene, back) << "\n" << resolved;
     EXPECT_EQ(resolvedSceneToml(back), resolved);
 }
@@ -304,6 +307,28 @@ std::vector<std::string> everyKeyScenes() {
                                 {"material", "[material]\ncalibration = \"" + calibration + "\"\n"},
                                 {"densification", "[densification]\ncalibration = \"" + calibration + "\"\n"},
                                 {"coupling", "[coupling]\nthickness = 0.0015\nbox = 0.026\n"}}),
+        // Plasticity excludes densification and coupling: a custom law with each hardening; the preset with the
+        // calibration's elastic law.
+        sceneOf(kEverySection,
+                {{"effects", "[effects]\nlist = [\"damping\", \"plasticity\", \"indenter\", \"fracture\"]\n"},
+                 {"densification", ""},
+                 {"coupling", ""},
+                 {"plasticity", "[plasticity]\nlaw = \"custom\"\nshear_limit = 7000\ncap_ratio = 1.2\n"
+                                "hardening = \"sigmoid\"\nonset_pressure = 7500\nsaturation = 0.2\n"
+                                "sigmoid_amplitude = 3000\nsigmoid_pressure = 1800\nyoung_modulus = 71000\n"
+                                "poisson_ratio = 0.18\naveraging = \"none\"\ncheck_every = 4\n"}}),
+        sceneOf(kEverySection,
+                {{"effects", "[effects]\nlist = [\"damping\", \"plasticity\", \"indenter\", \"fracture\"]\n"},
+                 {"densification", ""},
+                 {"coupling", ""},
+                 {"material", "[material]\ncalibration = \"" + calibration + "\"\n"},
+                 {"plasticity", "[plasticity]\nlaw = \"custom\"\nhardening = \"linear\"\nhardening_modulus = 90000\n"}}),
+        sceneOf(kEverySection,
+                {{"effects", "[effects]\nlist = [\"damping\", \"plasticity\", \"indenter\", \"fracture\"]\n"},
+                 {"densification", ""},
+                 {"coupling", ""},
+                 {"material", "[material]\ncalibration = \"" + calibration + "\"\n"},
+                 {"plasticity", "[plasticity]\nlaw = \"kermouche2008\"\n"}}),
     };
 }
 
@@ -430,8 +455,20 @@ TEST(SceneReader, OutOfRangeSaysRangeAndValue) {
 
 TEST(SceneReader, EffectsAreCheckedByName) {
     expectMentions(
-        errorOf("[effects]\nlist = [\"elasticity\", \"plasticity\"]\n[time]\nduration = 1\n"),
-        {"q.toml:2:23:", "key 'effects.list'", "unknown effect \"plasticity\"", "known effects: elasticity"});
+        errorOf("[effects]\nlist = [\"elasticity\", \"plastic\"]\n[time]\nduration = 1\n"),
+        {"q.toml:2:23:", "key 'effects.list'", "unknown effect \"plastic\"", "known effects: elasticity"});
+    // The cap law's compaction and the beams' slider are two homes of densification: refused together, at the
+    // other effect's entry.
+    expectMentions(errorOf("[effects]\nlist = [\"plasticity\", \"densification\"]\n[plasticity]\n"
+                           "young_modulus = 72.5\npoisson_ratio = 0.17\n[time]\nduration = 1\n"),
+                   {"q.toml:2:23:", "key 'effects.list'", "effect \"plasticity\" cannot be combined with \"densification\""});
+    // A preset's parameters are the preset's: a custom key beside it is refused.
+    expectMentions(errorOf("[effects]\nlist = [\"plasticity\"]\n[plasticity]\nlaw = \"bruns2020\"\n"
+                           "shear_limit = 7.0\nyoung_modulus = 72.5\npoisson_ratio = 0.17\n[time]\nduration = 1\n"),
+                   {"q.toml:5:15:", "key 'plasticity.shear_limit'", "not used with law = \"bruns2020\""});
+    // Without an elastic law to judge the strain with: missing, with what to give.
+    expectMentions(errorOf("[effects]\nlist = [\"plasticity\"]\n[time]\nduration = 1\n"),
+                   {"missing key 'plasticity.young_modulus'", "[material] calibration"});
     // Every known effect is available now; coupling on a sample it cannot embed says so at its entry.
     expectMentions(errorOf("[effects]\nlist = [\"coupling\"]\n[time]\nduration = 1\n"),
                    {"q.toml:2:9:", "effect 'coupling'", "expected sample.shape = \"hemisphere\""});

@@ -1,0 +1,155 @@
+#include "kernels/plastic_flow.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/LU>
+
+#include "kernels/parallel.hpp"
+#include "kernels/rest_state.hpp"
+
+namespace vitrum {
+
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+
+bool intact(const RestStateView& b, std::int32_t bond) { return !b.broken || !b.broken[bond]; }
+
+Mat3 loadMat(const double* a, std::size_t p) {
+    Mat3 m;
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+            m(r, c) = a[9 * p + 3 * r + c];
+        }
+    }
+    return m;
+}
+
+bool exists(const double* a, std::size_t p) {
+    // deformationGradients writes zeros where F does not exist; an existing F has det F > 0, so a non-zero row.
+    return a[9 * p] != 0.0 || a[9 * p + 1] != 0.0 || a[9 * p + 2] != 0.0;
+}
+
+/// The 6 components (xx yy zz xy yz xz) of a symmetric matrix, and back.
+void toVoigt(const Mat3& m, double* v) {
+    v[0] = m(0, 0);
+    v[1] = m(1, 1);
+    v[2] = m(2, 2);
+    v[3] = m(0, 1);
+    v[4] = m(1, 2);
+    v[5] = m(0, 2);
+}
+Mat3 fromVoigt(const double* v) {
+    Mat3 m;
+    m << v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2];
+    return m;
+}
+
+} // namespace
+
+void deformationGradients(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
+                          const double* current, double* deformation) {
+    parallelFor("plasticity.deformation", inc.n, [&](std::size_t p) {
+        Mat3 a = Mat3::Zero();
+        Mat3 b = Mat3::Zero();
+        for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
+            const std::int32_t bond = inc.entry[k] >> 1;
+            if (!intact(bonds, bond)) {
+                continue;
+            }
+            const std::size_t other = static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
+            const Vec3 dX = load3(initial, other) - load3(initial, p);
+            const Vec3 dx = load3(current, other) - load3(current, p);
+            a += dX * dX.transpose();
+            b += dx * dX.transpose();
+        }
+        // A well-spread neighbourhood has det(a) ≈ (tr a / 3)³; below 1e-6 of tr³ it is (nearly) coplanar.
+        const double scale = a.trace();
+        const bool spans = a.determinant() > 1e-6 * scale * scale * scale;
+        const Mat3 f = spans ? Mat3(b * a.inverse()) : Mat3::Zero();
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) {
+                deformation[9 * p + 3 * r + c] = f(r, c);
+            }
+        }
+    });
+}
+
+PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const IncidenceView& inc, const RestStateView& bonds,
+                                  const double* radius, PlasticStateView s) {
+    const double* F = s.deformation;
+    return parallelReduce("plasticity.return", inc.n, PlasticReturnTotals{}, [&](std::size_t p,
+                                                                                  PlasticReturnTotals& acc) {
+        s.yielded[p] = 0;
+        for (int k = 0; k < 6; ++k) {
+            s.increment[6 * p + k] = 0.0;
+        }
+        if (!exists(F, p)) {
+            return;
+        }
+        Mat3 f = loadMat(F, p); // (P2): the particle's, plus its intact neighbours' where they exist
+        if (law.averaging) {
+            int count = 1;
+            for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
+                const std::int32_t bond = inc.entry[k] >> 1;
+                const std::size_t other =
+                    static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
+                if (intact(bonds, bond) && exists(F, other)) {
+                    f += loadMat(F, other);
+                    ++count;
+                }
+            }
+            f /= static_cast<double>(count);
+        }
+        const Mat3 green = 0.5 * (f.transpose() * f - Mat3::Identity()); // (P3)
+        double elastic[6];
+        toVoigt(green, elastic);
+        double* ep = s.plastic_strain + 6 * p;
+        for (int k = 0; k < 6; ++k) {
+            elastic[k] -= ep[k];
+        }
+        double trial[6];
+        elasticStress(elastic, law.bulk, law.shear, trial); // (P4)
+        const CapTensorReturn r =
+            law.cap.returnMap(trial, CapState{s.compaction[p], s.plastic_shear[p]}, law.bulk, law.shear);
+        if (!r.invariants.plastic) {
+            return;
+        }
+        for (int k = 0; k < 6; ++k) {
+            ep[k] += r.plastic_strain[k];
+        }
+        s.compaction[p] = r.invariants.state.compaction;
+        s.plastic_shear[p] = r.invariants.state.shear_strain;
+        s.plastic_work[p] += r.invariants.dissipation;
+        const Mat3 inverse = f.inverse(); // (P5)
+        const Mat3 spatial = inverse.transpose() * fromVoigt(r.plastic_strain) * inverse;
+        toVoigt(spatial, s.increment + 6 * p);
+        s.yielded[p] = 1;
+        const double R = radius[p];
+        acc.yielded += 1;
+        acc.dissipation += law.volume_factor * (4.0 / 3.0) * std::numbers::pi * R * R * R * r.invariants.dissipation;
+    });
+}
+
+void moveRestStates(const RestStateView& b, const PlasticStateView& s, const double* orientation,
+                    const double* position) {
+    parallelFor("plasticity.rest_states", b.n, [&](std::size_t k) {
+        const auto i = static_cast<std::size_t>(b.i[k]);
+        const auto j = static_cast<std::size_t>(b.j[k]);
+        if (!intact(b, static_cast<std::int32_t>(k)) || (!s.yielded[i] && !s.yielded[j])) {
+            return;
+        }
+        double de[6];
+        bondPlasticIncrement(s.increment + 6 * i, s.increment + 6 * j, de); // (S1)
+        const Vec3 chord = (load3(position, j) - load3(position, i)).normalized();
+        const BondRestState old{b.rest_length[k], load3(b.axis_i, k), load3(b.axis_j, k)};
+        const BondRestState now =
+            plasticRestState(old, de, loadQuat(orientation, i), loadQuat(orientation, j), chord); // (S2)
+        b.rest_length[k] = now.rest_length;
+        store3(b.axis_i, k, now.axis_i);
+        store3(b.axis_j, k, now.axis_j);
+    });
+}
+
+} // namespace vitrum

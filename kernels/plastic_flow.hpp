@@ -1,0 +1,107 @@
+// The plastic flow of the particles (effect `plasticity`, issue 26): the cap law of kernels/cap_plasticity.hpp
+// judged on each particle's kinematic strain, and the rest states of its bonds moved by the plastic strain
+// increment it returns (kernels/rest_state.hpp). Bending and twist stay elastic.
+//
+// Why the strain and not the particle's virial stress (eq 10): a particle whose load is prescribed (a traction
+// on the hull, a tool contact) has its bond forces fixed by equilibrium, so moving its bonds' rest state does
+// not lower its virial stress; the eq (10) stress of those particles is also biased high (+38 % on the hull
+// after averaging, CHANGELOG "Issue 26"). A return driven by that stress compacts them without end. The
+// strain-driven return below has no such loop: each particle carries its plastic strain E^p, and the stress
+// it judges is the elastic law of the strain its neighbourhood has,
+//   F_i = (Σ_b Δx_b ΔX_bᵀ)(Σ_b ΔX_b ΔX_bᵀ)⁻¹ over the intact bonds b of i                                   (P1)
+//   F̄_i = the mean of F over i and its intact bonded neighbours (averaging = neighbours), else F_i          (P2)
+//   E_i = ½ (F̄ᵀ F̄ − I)                         Green–Lagrange strain, initial frame                       (P3)
+//   S_tr = λ tr(E − E^p) I + 2 G (E − E^p),   λ = K − 2G/3                                                   (P4)
+// the cap's return of S_tr (kernels/cap_plasticity.hpp R1–R2) gives ΔE^p and the new (e, γ̄); E^p += ΔE^p.
+// After the return S = C:(E − E^p) is on the surface whatever the bonds do, so a prescribed load cannot drive
+// the particle past it: it compacts only as far as the hardening allows. With K, G the packing's calibrated
+// moduli, S is the macroscopic stress of a uniform deformation.
+//
+// The rest states then follow the spatial increment (the push-forward of a covariant strain):
+//   Δε_i = F̄⁻ᵀ ΔE^p F̄⁻¹                                                                                     (P5)
+// and every intact bond with a yielding end gets Δε_b = ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2).
+//
+// Units: strains dimensionless, K, G and stresses GPa, lengths µm; the dissipation Ω σ:ΔE^p in GPa·µm³ = nJ.
+// Validity: small elastic strains (the linear law P4 on E − E^p; the cap law's own note); the additive split
+// of Green–Lagrange strains is exact to first order in E^p (|E^p| ≲ 0.07 at silica's saturation); a
+// particle with fewer than three non-coplanar intact bonds has no strain (it stays elastic and its bonds are
+// not moved by its own increment). Deterministic: every pass is per particle or per bond, and the totals
+// are chunked sums (kernels/parallel.hpp).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "kernels/cap_plasticity.hpp"
+#include "kernels/views.hpp"
+
+namespace vitrum {
+
+/// The plastic state of the particles (the store's effect fields) and the step's work arrays.
+struct PlasticStateView {
+    std::size_t n = 0;
+    double* plastic_strain = nullptr; ///< 6n, E^p (xx yy zz xy yz xz, tensor shear), initial frame
+    double* compaction = nullptr;     ///< n, e
+    double* plastic_shear = nullptr;  ///< n, γ̄
+    double* plastic_work = nullptr;   ///< n, Σ S:ΔE^p, GPa
+    double* deformation = nullptr;    ///< 9n work: F_i (P1), row-major; 0 where it does not exist
+    double* increment = nullptr;      ///< 6n work: Δε_i of the last return (P5), spatial frame
+    std::uint8_t* yielded = nullptr;  ///< n work: 1 when the particle flowed in the last return
+};
+
+/// The bonds' rest state and topology, as the plastic update writes them.
+struct RestStateView {
+    std::size_t n = 0;
+    const std::int32_t* i = nullptr;
+    const std::int32_t* j = nullptr;
+    const std::uint8_t* broken = nullptr; ///< n, or null (no fracture)
+    double* rest_length = nullptr;        ///< l₀, µm
+    double* axis_i = nullptr;             ///< 3n, section normal of end i, i's body frame
+    double* axis_j = nullptr;             ///< 3n
+};
+
+/// The law and elastic metric of the return.
+struct PlasticFlowLaw {
+    CapPlasticity cap;
+    double bulk = 0.0;                ///< K, GPa
+    double shear = 0.0;               ///< G, GPa
+    bool averaging = true;            ///< P2 with the neighbours
+    double volume_factor = 1.0;       ///< Ω_i = volume_factor · 4/3 π R_i³ (1/φ of the packing)
+};
+
+/// Totals of one return pass (chunked, thread-count independent).
+struct PlasticReturnTotals {
+    long long yielded = 0;    ///< particles that flowed
+    double dissipation = 0.0; ///< Σ Ω_i S:ΔE^p, nJ
+    PlasticReturnTotals& operator+=(const PlasticReturnTotals& o) {
+        yielded += o.yielded;
+        dissipation += o.dissipation;
+        return *this;
+    }
+};
+
+/// F_i (P1) of every particle into state.deformation, over its intact bonds; `initial` and `current` are 3n
+/// positions, µm. A row of zeros where the intact bonds do not span 3D.
+void deformationGradients(const IncidenceView& incidence, const RestStateView& bonds, const double* initial,
+                          const double* current, double* deformation);
+
+/// The return of every particle (P2–P5): updates E^p, e, γ̄, the plastic work, and writes the spatial
+/// increment and the yielded flag. Needs state.deformation from deformationGradients.
+PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const IncidenceView& incidence,
+                                  const RestStateView& bonds, const double* radius, PlasticStateView state);
+
+/// Moves the rest state of every intact bond with a yielded end by ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2),
+/// with the ends' current orientations (4n) and positions (3n).
+void moveRestStates(const RestStateView& bonds, const PlasticStateView& state, const double* orientation,
+                    const double* position);
+
+/// The elastic law (P4): the stress of an elastic Green–Lagrange strain `elastic` (6 components), GPa.
+inline void elasticStress(const double* elastic, double bulk, double shear, double* stress) noexcept {
+    const double lambda = bulk - 2.0 * shear / 3.0;
+    const double trace = elastic[0] + elastic[1] + elastic[2];
+    for (int k = 0; k < 6; ++k) {
+        stress[k] = 2.0 * shear * elastic[k] + (k < 3 ? lambda * trace : 0.0);
+    }
+}
+
+} // namespace vitrum

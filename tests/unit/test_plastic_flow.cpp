@@ -1,0 +1,220 @@
+// The plastic flow of the particles (kernels/plastic_flow.hpp): on an FCC box deformed affinely (every
+// particle x = A X + c, no dynamics), the kinematic strain is the exact one, the return of every particle is
+// the cap law's own (kernels/cap_plasticity.hpp) and lands on the surface, unloading is elastic, the bonds'
+// rest states follow the plastic strain, and the pass does not depend on the thread count.
+//
+// Tolerances: F (P1) is the least-squares fit of an exactly affine field, so it is A to round-off of sums of
+// ~12 products of O(1) numbers (1e-13 used). The return on an affine field sees the same trial stress as
+// the scalar law called directly, up to that round-off times the moduli (~1e-11 GPa): the compactions are
+// compared at 1e-12 (e is O(0.01–0.1), its sensitivity to p is 1/(K + H) ≈ 0.01 per GPa) and the yield
+// function after the return at 1e-9 GPa (the Newton return converges to 4 ulp of (R q_y)², i.e. ~1e-14 in F).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <tuple>
+#include <vector>
+
+#include "kernels/parallel.hpp"
+#include "kernels/plastic_flow.hpp"
+#include "solver/model/model.hpp"
+#include "tests/support/test_support.hpp"
+
+namespace vitrum {
+namespace {
+
+using Mat3 = Eigen::Matrix3d;
+using testing::fccModel;
+
+/// Silica's elastic metric (E 72.5 GPa, ν 0.17).
+constexpr double kYoung = 72.5, kPoisson = 0.17;
+const double kBulk = kYoung / (3.0 * (1.0 - 2.0 * kPoisson));
+const double kShear = kYoung / (2.0 * (1.0 + kPoisson));
+
+struct Fixture {
+    Model model = fccModel(SampleShape::Box, 1.5, 1500);
+    std::vector<double> deformation, increment;
+    std::vector<std::uint8_t> yielded;
+    PlasticFlowLaw law;
+
+    Fixture() {
+        model.particles.enablePlasticity();
+        const std::size_t n = model.particles.size();
+        deformation.assign(9 * n, 0.0);
+        increment.assign(6 * n, 0.0);
+        yielded.assign(n, 0);
+        law.cap = CapPlasticity::bruns2020();
+        law.bulk = kBulk;
+        law.shear = kShear;
+    }
+    RestStateView bonds() {
+        Bonds& b = model.bonds;
+        return {b.size(), b.i.data(), b.j.data(), nullptr, b.rest_length.data(), b.axis_i.data(), b.axis_j.data()};
+    }
+    PlasticStateView state() {
+        Particles& p = model.particles;
+        return {p.size(),           p.plastic_strain.data(), p.compaction.data(), p.plastic_shear.data(),
+                p.plastic_work.data(), deformation.data(),     increment.data(),    yielded.data()};
+    }
+    void deform(const Mat3& a) {
+        Particles& p = model.particles;
+        for (std::size_t q = 0; q < p.size(); ++q) {
+            store3(p.position.data(), q, a * load3(p.initial_position.data(), q) + Vec3(0.1, -0.2, 0.3));
+        }
+    }
+    PlasticReturnTotals returnNow() {
+        deformationGradients(model.incidence.view(), bonds(), model.particles.initial_position.data(),
+                             model.particles.position.data(), deformation.data());
+        return capReturnPass(law, model.incidence.view(), bonds(), model.particles.radius.data(), state());
+    }
+    bool hasF(std::size_t q) const { return deformation[9 * q] != 0.0; }
+};
+
+/// The trial stress of an affine F on a virgin particle (P3–P4).
+void trialOf(const Mat3& f, double* trial) {
+    const Mat3 e = 0.5 * (f.transpose() * f - Mat3::Identity());
+    const double v[6] = {e(0, 0), e(1, 1), e(2, 2), e(0, 1), e(1, 2), e(0, 2)};
+    elasticStress(v, kBulk, kShear, trial);
+}
+
+TEST(PlasticFlow, AnAffineDeformationHasItsExactGradient) {
+    Fixture fx;
+    Mat3 a;
+    a << 0.97, 0.02, -0.01, 0.015, 1.01, 0.03, -0.02, 0.01, 0.99;
+    fx.deform(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix() * a);
+    deformationGradients(fx.model.incidence.view(), fx.bonds(), fx.model.particles.initial_position.data(),
+                         fx.model.particles.position.data(), fx.deformation.data());
+    const Mat3 expected = Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()).toRotationMatrix() * a;
+    std::size_t with = 0;
+    for (std::size_t q = 0; q < fx.model.particles.size(); ++q) {
+        if (!fx.hasF(q)) continue;
+        ++with;
+        for (int k = 0; k < 9; ++k) {
+            ASSERT_NEAR(fx.deformation[9 * q + k], expected(k / 3, k % 3), 1e-13) << "particle " << q;
+        }
+    }
+    EXPECT_GT(with, fx.model.particles.size() * 9 / 10); // FCC: only a few edge particles lack a 3D neighbourhood
+}
+
+TEST(PlasticFlow, HydrostaticCompressionReturnsToTheCapAsTheLawDoesAndUnloadsElastically) {
+    Fixture fx;
+    // 9 % linear compression: E = ½(0.91² − 1) I, p_trial = −3 K E_xx ≈ 9.4 GPa, beyond p_b0 = 8 GPa.
+    const Mat3 f = 0.91 * Mat3::Identity();
+    fx.deform(f);
+    const PlasticReturnTotals totals = fx.returnNow();
+    double trial[6];
+    trialOf(f, trial);
+    const CapTensorReturn expected = fx.law.cap.returnMap(trial, CapState{}, kBulk, kShear);
+    ASSERT_TRUE(expected.invariants.on_cap);
+    ASSERT_GT(expected.invariants.d_compaction, 0.005);
+    long long checked = 0;
+    const Particles& p = fx.model.particles;
+    for (std::size_t q = 0; q < p.size(); ++q) {
+        if (!fx.hasF(q)) {
+            EXPECT_EQ(p.compaction[q], 0.0);
+            continue;
+        }
+        ++checked;
+        ASSERT_EQ(fx.yielded[q], 1);
+        EXPECT_NEAR(p.compaction[q], expected.invariants.state.compaction, 1e-12) << "particle " << q;
+        // On the surface after the return: F(S(E − E^p)) = 0.
+        const Mat3 e = 0.5 * (f.transpose() * f - Mat3::Identity());
+        const double* ep = p.plastic_strain.data() + 6 * q;
+        const double el[6] = {e(0, 0) - ep[0], e(1, 1) - ep[1], e(2, 2) - ep[2], -ep[3], -ep[4], -ep[5]};
+        double s[6];
+        elasticStress(el, kBulk, kShear, s);
+        const StressInvariants inv = stressInvariants(s);
+        EXPECT_NEAR(fx.law.cap.yieldFunction(inv.pressure, inv.von_mises, p.compaction[q]), 0.0, 1e-9);
+        // The plastic work is the law's dissipation, positive.
+        EXPECT_NEAR(p.plastic_work[q], expected.invariants.dissipation, 1e-12);
+        EXPECT_GT(p.plastic_work[q], 0.0);
+    }
+    EXPECT_EQ(totals.yielded, checked);
+    EXPECT_GT(checked, static_cast<long long>(p.size() * 9 / 10));
+
+    // Unloading to the initial shape: the elastic strain is +e/3 in each direction, a tension inside the
+    // shear line (q = 0): no particle flows, the state stays.
+    const std::vector<double> compaction = p.compaction;
+    fx.deform(Mat3::Identity());
+    EXPECT_EQ(fx.returnNow().yielded, 0);
+    EXPECT_EQ(p.compaction, compaction);
+}
+
+TEST(PlasticFlow, SimpleShearFlowsOnTheShearLineWithoutCompaction) {
+    Fixture fx;
+    // γ = 0.2: q_trial = √3 G γ ≈ 10.7 GPa > q_y = 7.5 GPa, and the Green–Lagrange E_yy = γ²/2 is a small
+    // tension, so the return is on the shear line (p ≤ p_a): q → q_y, no compaction.
+    Mat3 f = Mat3::Identity();
+    f(0, 1) = 0.2;
+    fx.deform(f);
+    fx.returnNow();
+    double trial[6];
+    trialOf(f, trial);
+    const CapTensorReturn expected = fx.law.cap.returnMap(trial, CapState{}, kBulk, kShear);
+    ASSERT_TRUE(expected.invariants.plastic);
+    ASSERT_FALSE(expected.invariants.on_cap);
+    const Particles& p = fx.model.particles;
+    for (std::size_t q = 0; q < p.size(); ++q) {
+        if (!fx.hasF(q)) continue;
+        EXPECT_EQ(p.compaction[q], 0.0);
+        EXPECT_NEAR(p.plastic_shear[q], expected.invariants.d_shear, 1e-12);
+        EXPECT_GT(p.plastic_shear[q], 0.01);
+    }
+}
+
+TEST(PlasticFlow, TheRestStatesOfTheBondsFollowTheAffinePlasticStrain) {
+    // An affine compaction of every particle (all returned alike) moves every interior bond's rest length by
+    // the same factor |(I + Δε) x̂|, Δε the spatial increment (P5): the bond between two particles with the
+    // same Δε gets exactly it (S1). Checked against Δε computed here from the law's ΔE^p.
+    Fixture fx;
+    const Mat3 f = 0.91 * Mat3::Identity();
+    fx.deform(f);
+    const std::vector<double> before = fx.model.bonds.rest_length;
+    fx.returnNow();
+    moveRestStates(fx.bonds(), fx.state(), fx.model.particles.orientation.data(), fx.model.particles.position.data());
+    double trial[6];
+    trialOf(f, trial);
+    const CapTensorReturn r = fx.law.cap.returnMap(trial, CapState{}, kBulk, kShear);
+    // Hydrostatic ΔE^p = −Δe/3 I; pushed forward by F = 0.91 I: Δε = −Δe/(3 · 0.91²) I; a fibre's rest
+    // length scales by 1 + Δε_xx.
+    const double factor = 1.0 - r.invariants.d_compaction / (3.0 * 0.91 * 0.91);
+    const Bonds& b = fx.model.bonds;
+    long long checked = 0;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        if (!fx.hasF(b.i[k]) || !fx.hasF(b.j[k])) continue;
+        ++checked;
+        EXPECT_NEAR(b.rest_length[k] / before[k], factor, 1e-12) << "bond " << k;
+    }
+    EXPECT_GT(checked, 0);
+    EXPECT_LT(factor, 0.999);
+}
+
+TEST(PlasticFlow, TheReturnDoesNotDependOnTheThreadCount) {
+    // A non-affine field (random displacements on a compression beyond the cap): the states after the pass on
+    // 1 and 2 threads are equal bit for bit, and so are the chunked totals.
+    auto run = [](int threads) {
+        Fixture fx;
+        fx.deform(0.91 * Mat3::Identity());
+        Particles& p = fx.model.particles;
+        for (std::size_t q = 0; q < p.size(); ++q) {
+            for (int c = 0; c < 3; ++c) {
+                p.position[3 * q + c] += 0.004 * std::sin(1.7 * q + 2.3 * c);
+            }
+        }
+        const int before = threadCount();
+        setThreadCount(threads);
+        const PlasticReturnTotals t = fx.returnNow();
+        moveRestStates(fx.bonds(), fx.state(), p.orientation.data(), p.position.data());
+        setThreadCount(before);
+        return std::make_tuple(t.yielded, t.dissipation, p.plastic_strain, fx.model.bonds.rest_length);
+    };
+    const auto one = run(1);
+    const auto two = run(2);
+    EXPECT_GT(std::get<0>(one), 0);
+    EXPECT_EQ(std::get<0>(one), std::get<0>(two));
+    EXPECT_EQ(std::get<1>(one), std::get<1>(two));
+    EXPECT_EQ(std::get<2>(one), std::get<2>(two));
+    EXPECT_EQ(std::get<3>(one), std::get<3>(two));
+}
+
+} // namespace
+} // namespace vitrum
