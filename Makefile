@@ -2,7 +2,7 @@
 # quietly, only when missing), configure and build Release into build/, then run the quickstart scene or ctest.
 PACKAGES := cmake g++ make libeigen3-dev libfftw3-dev libhdf5-dev libvtk9-dev libcgal-dev \
             libtomlplusplus-dev libcli11-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev \
-            python3-matplotlib pkg-config
+            python3-matplotlib pkg-config libopenmpi-dev openmpi-bin python3-h5py
 BUILD    ?= build
 JOBS     ?= $(shell nproc)
 SHELL    := /bin/bash

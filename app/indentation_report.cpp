@@ -54,7 +54,10 @@ CrackParams crackParams(const Indenter& indenter, double mean_radius, double con
 }
 
 CrackPattern classifyReleased(const Model& model, const CrackParams& params) {
-    const Particles& p = model.particles;
+    return classifyReleased(model.particles, params);
+}
+
+CrackPattern classifyReleased(const Particles& p, const CrackParams& params) {
     std::vector<double> centres;
     for (std::size_t i = 0; i < p.size(); ++i) {
         if (p.released[i]) {
@@ -95,7 +98,10 @@ nlohmann::ordered_json crackJson(const CrackPattern& cr, const CrackParams& cp) 
 }
 
 CrackSnapshots::CrackSnapshots(const Model& model, const Effects& effects, fs::path out)
-    : mean_radius_(meanRadius(model.particles)), out_(std::move(out)) {
+    : CrackSnapshots(meanRadius(model.particles), effects, std::move(out), true) {}
+
+CrackSnapshots::CrackSnapshots(double mean_radius, const Effects& effects, fs::path out, bool writes)
+    : mean_radius_(mean_radius), out_(std::move(out)), writes_(writes) {
     const std::vector<StageParams>& st = effects.indenter->stages;
     for (std::size_t k = 0; k < st.size(); ++k) {
         if (st[k].kind == StageKind::Load) {
@@ -108,8 +114,24 @@ CrackSnapshots::CrackSnapshots(const Model& model, const Effects& effects, fs::p
 std::string CrackSnapshots::observe(const Model& model, const Effects& effects, long step, double time) {
     const Particles& p = model.particles;
     const Indenter& ind = *effects.indenter;
+    // The contact radius now: the farthest particle from the axis in contact with the tool (tool-agnostic).
+    double a = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (load3(ind.contact_force.data(), i).squaredNorm() > 0.0) {
+            a = std::max(a, std::hypot(p.position[3 * i] - ind.tip.x(), p.position[3 * i + 1] - ind.tip.y()));
+        }
+    }
+    long released = 0;
+    for (std::uint8_t r : p.released) released += r;
+    return observe(a, released, [&]() -> const Particles& { return p; }, ind, step, time);
+}
+
+std::string CrackSnapshots::observe(double a, long released, const std::function<const Particles&()>& released_particles,
+                                    const Indenter& ind, long step, double time) {
     auto snapshot = [&](const std::string& tag, const CrackPattern& cr, const CrackParams& cp) {
-        writeCracksCsv(out_ / ("cracks_" + tag + ".csv"), p);
+        if (writes_) {
+            writeCracksCsv(out_ / ("cracks_" + tag + ".csv"), released_particles());
+        }
         nlohmann::ordered_json j = crackJson(cr, cp);
         j["step"] = step;
         j["time_ns"] = time;
@@ -119,17 +141,10 @@ std::string CrackSnapshots::observe(const Model& model, const Effects& effects, 
         json_[tag] = j;
         return tag;
     };
-    // The contact radius now: the farthest particle from the axis in contact with the tool (tool-agnostic).
-    double a = 0.0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        if (load3(ind.contact_force.data(), i).squaredNorm() > 0.0) {
-            a = std::max(a, std::hypot(p.position[3 * i] - ind.tip.x(), p.position[3 * i + 1] - ind.tip.y()));
-        }
-    }
     if (!full_load_taken_ && first_load_ >= 0 && ind.stage > first_load_) {
         full_load_taken_ = true;
         const CrackParams cp = crackParams(ind, mean_radius_, std::max(a, last_contact_radius_));
-        return snapshot("full_load", classifyReleased(model, cp), cp);
+        return snapshot("full_load", classifyReleased(released_particles(), cp), cp);
     }
     last_contact_radius_ = std::max(last_contact_radius_, a);
     if (ind.stage == first_load_) {
@@ -137,17 +152,15 @@ std::string CrackSnapshots::observe(const Model& model, const Effects& effects, 
         if (onset_taken_ && !unstable_taken_ && f < (1.0 - kPopIn) * max_force_) {
             unstable_taken_ = true;
             const CrackParams cp = crackParams(ind, mean_radius_, a);
-            return snapshot("unstable", classifyReleased(model, cp), cp);
+            return snapshot("unstable", classifyReleased(released_particles(), cp), cp);
         }
         max_force_ = std::max(max_force_, f);
     }
     if (!onset_taken_ && a > 0.0 && ind.stage == first_load_) { // the onset is a loading event
-        long released = 0;
-        for (std::uint8_t r : p.released) released += r;
         if (released > released_seen_) {
             released_seen_ = released;
             const CrackParams cp = crackParams(ind, mean_radius_, a);
-            const CrackPattern cr = classifyReleased(model, cp);
+            const CrackPattern cr = classifyReleased(released_particles(), cp);
             if (cr.cone) {
                 onset_taken_ = true;
                 return snapshot("onset", cr, cp);

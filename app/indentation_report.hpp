@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <ostream>
 
 #include <nlohmann/json.hpp>
@@ -19,6 +20,7 @@ namespace vitrum {
 CrackParams crackParams(const Indenter& indenter, double mean_radius, double contact_radius);
 /// The crack pattern of the released particles (initial centres), solver/measure/cracks.hpp.
 CrackPattern classifyReleased(const Model& model, const CrackParams& params);
+CrackPattern classifyReleased(const Particles& particles, const CrackParams& params);
 /// The released particles (initial and current centres, release step) as CSV, written atomically.
 void writeCracksCsv(const std::filesystem::path& path, const Particles& particles);
 /// The summary keys of a crack pattern (cone_radius_um, cone_angle_deg, radial_crack_count, ...).
@@ -36,11 +38,19 @@ public:
     /// the 10-30 % pop-ins of unstable cone/median cracking in glasses.
     static constexpr double kPopIn = 0.03;
     CrackSnapshots(const Model& model, const Effects& effects, std::filesystem::path out);
+    /// With the sample's mean radius given (a rank holds part of it); `writes` false: no file is written here
+    /// (the ranks other than 0 of a run over several ranks).
+    CrackSnapshots(double mean_radius, const Effects& effects, std::filesystem::path out, bool writes);
     /// Call at every recorded step; returns the tag of the snapshot taken ("onset", "unstable", "full_load")
     /// or "". onset: the first closed ring while loading. unstable: the first pop-in while loading after
     /// the onset, the tool force falling kPopIn below its running maximum under a displacement-driven tool
     /// (crack growth that the load no longer has to drive; the paper's Fig 15 is the state just before).
     std::string observe(const Model& model, const Effects& effects, long step, double time);
+    /// The same from what it decides on: the contact radius now (the farthest tool-contact particle from the
+    /// axis), the released particles' count, and their store (`released_particles`, called only when a
+    /// pattern is classified: on several ranks it gathers them).
+    std::string observe(double contact_radius, long released, const std::function<const Particles&()>& released_particles,
+                        const Indenter& indenter, long step, double time);
     const nlohmann::ordered_json& json() const { return json_; }
     nlohmann::ordered_json& json() { return json_; }
     /// The largest contact radius seen while loading, µm (the farthest contact point from the axis).
@@ -49,6 +59,7 @@ public:
 private:
     double mean_radius_;
     std::filesystem::path out_;
+    bool writes_ = true;
     int first_load_ = -1;
     bool onset_taken_ = false, unstable_taken_ = false, full_load_taken_ = false;
     double max_force_ = 0.0; ///< running maximum of the tool force while loading, internal units

@@ -13,6 +13,7 @@
 #include "io/atomic_file.hpp"
 #include "io/scene_reader.hpp"
 #include "solver/errors.hpp"
+#include "solver/parallel/comm.hpp"
 
 namespace {
 
@@ -56,6 +57,26 @@ void warnAboutThreads(int threads) {
                      "other, so the run will be much slower than with --threads "
                   << cores << "\n";
     }
+}
+
+/// "rank r of P: " on a run over several MPI ranks (the rank that says it), else nothing.
+std::string rankTag() {
+    const vitrum::Comm& comm = vitrum::Comm::world();
+    return comm.size() > 1 ? "rank " + std::to_string(comm.rank()) + " of " + std::to_string(comm.size()) + ": " : "";
+}
+
+/// The process's exit with `code`. On several ranks a failure this rank met alone (`failed`, its message
+/// printed) ends every rank through MPI_Abort with its code, so that none waits forever in a collective; a
+/// failure the ranks agreed on (PeerFailure, or this rank's own rethrown by solver/parallel agreed) and a
+/// normal end finalise. A one-rank MPI run and a run without MPI just return.
+int endRanks(int code, bool failed) {
+    vitrum::Comm& comm = vitrum::Comm::world();
+    if (failed && comm.size() > 1) {
+        std::cerr.flush();
+        comm.abort(code);
+    }
+    comm.finalize();
+    return code;
 }
 
 } // namespace
@@ -215,15 +236,22 @@ int main(int argc, char** argv) {
         const int code = app.exit(e);
         return code == 0 ? 0 : 2;
     }
+    if (const vitrum::Comm& comm = vitrum::Comm::world(); comm.size() > 1 && !run_cmd->parsed()) {
+        if (comm.rank() == 0) {
+            std::cerr << "vitrum: error: only `vitrum run` runs on several MPI ranks (this is " << comm.size()
+                      << "); expected the other subcommands without mpirun (or with mpirun -n 1)\n";
+        }
+        return endRanks(2, false);
+    }
     for (const int threads : {run.threads, measure.threads, pack.threads, calibrate.threads, densify.threads}) {
         warnAboutThreads(threads);
     }
     try {
         if (run_cmd->parsed()) {
-            return vitrum::runScene(run);
+            return endRanks(vitrum::runScene(run), false);
         }
         if (measure_cmd->parsed()) {
-            return vitrum::measureRun(measure);
+            return endRanks(vitrum::measureRun(measure), false);
         }
         if (reference_cmd->parsed()) {
             if (reference_out.empty()) {
@@ -231,37 +259,39 @@ int main(int argc, char** argv) {
             } else {
                 vitrum::writeFileAtomically(reference_out, vitrum::sceneReferenceMarkdown());
             }
-            return 0;
+            return endRanks(0, false);
         }
         if (pack_cmd->parsed()) {
             pack.params.shape = *vitrum::enumFromName<vitrum::SampleShape>(pack_shape); // checked by IsMember
             if (pack_size.size() == 3) {
                 pack.params.size = vitrum::Vec3(pack_size[0], pack_size[1], pack_size[2]);
             }
-            return vitrum::packCommand(pack);
+            return endRanks(vitrum::packCommand(pack), false);
         }
         if (elastic_cmd->parsed()) {
             for (int k = 0; k < argc; ++k) {
                 calibrate.command_line += (k ? " " : "") + std::string(argv[k]);
             }
-            return vitrum::calibrateElastic(calibrate);
+            return endRanks(vitrum::calibrateElastic(calibrate), false);
         }
         if (densify_cmd->parsed()) {
             for (int k = 0; k < argc; ++k) {
                 densify.command_line += (k ? " " : "") + std::string(argv[k]);
             }
             densify.sensitivity = !no_sensitivity;
-            return vitrum::calibrateDensification(densify);
+            return endRanks(vitrum::calibrateDensification(densify), false);
         }
+    } catch (const vitrum::PeerFailure& e) {
+        return endRanks(e.code, false); // another rank failed and says why
     } catch (const vitrum::InputError& e) {
-        std::cerr << "vitrum: error: " << e.what() << '\n';
-        return 2;
+        std::cerr << "vitrum: error: " << rankTag() << e.what() << '\n';
+        return endRanks(2, true);
     } catch (const vitrum::RuntimeFailure& e) {
-        std::cerr << "vitrum: run failed: " << e.what() << '\n';
-        return 1;
+        std::cerr << "vitrum: run failed: " << rankTag() << e.what() << '\n';
+        return endRanks(1, true);
     } catch (const std::exception& e) {
-        std::cerr << "vitrum: run failed: " << e.what() << '\n';
-        return 1;
+        std::cerr << "vitrum: run failed: " << rankTag() << e.what() << '\n';
+        return endRanks(1, true);
     }
-    return 0;
+    return endRanks(0, false);
 }

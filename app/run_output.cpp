@@ -63,7 +63,8 @@ void clearEarlierOutputs(const fs::path& dir) {
     if (fs::is_directory(dir / "maps", ignored)) {
         for (const fs::directory_entry& e : fs::directory_iterator(dir / "maps", ignored)) {
             const std::string name = e.path().filename().string();
-            if (e.path().extension() == ".vtu" && (name.rfind("particles_", 0) == 0 || name.rfind("cnem_", 0) == 0)) {
+            const bool map = e.path().extension() == ".vtu" || e.path().extension() == ".pvtu";
+            if (map && (name.rfind("particles_", 0) == 0 || name.rfind("cnem_", 0) == 0)) {
                 fs::remove(e.path(), ignored);
             }
         }
@@ -92,7 +93,7 @@ const DerivedField kDerivedFields[] = {
      }},
     {"coordination",
      [](Model& m, Effects&, Buffers& b, std::vector<FieldView>& views) {
-         b.coordination.resize(m.particles.size());
+         b.coordination.resize(ownedCount(m)); // the incidence's rows (a rank's: its owned particles)
          for (std::size_t i = 0; i < b.coordination.size(); ++i) {
              b.coordination[i] = m.incidence.degree(i);
          }
@@ -154,6 +155,16 @@ MapWriter::MapWriter(const fs::path& out, const Scene& scene, const Model&, doub
                                     : PvdCollection((out / "cnem.pvd").string())),
       fields_(scene.output.fields) {}
 
+MapWriter::MapWriter(const fs::path& out, const Scene& scene, const Model& model, double restart_time, int rank,
+                     int ranks)
+    : out_(out), cnem_pvd_((out / "cnem.pvd").string()), fields_(scene.output.fields), rank_(rank), ranks_(ranks),
+      pieces_(model.part.has_value()) {
+    if (rank == 0) {
+        pvd_ = restart_time >= 0.0 ? PvdCollection::continuing((out / "maps.pvd").string(), restart_time)
+                                   : PvdCollection((out / "maps.pvd").string());
+    }
+}
+
 void MapWriter::write(Model& model, Effects& effects, long step, double time) {
     Particles& p = model.particles;
     std::vector<FieldView> views;
@@ -176,10 +187,28 @@ void MapWriter::write(Model& model, Effects& effects, long step, double time) {
         });
     }
     char name[64];
+    if (pieces_) {
+        // One piece per rank (its owned particles: the stores' first rows), and rank 0's .pvtu over them.
+        const std::size_t owned = ownedCount(model);
+        std::snprintf(name, sizeof name, "maps/particles_%08ld_r%d.vtu", step, rank_);
+        writeParticlesVtu((out_ / name).string(), owned, p.position.data(), p.radius.data(), views);
+        if (rank_ == 0) {
+            std::vector<std::string> pieces;
+            for (int r = 0; r < ranks_; ++r) {
+                std::snprintf(name, sizeof name, "particles_%08ld_r%d.vtu", step, r);
+                pieces.push_back(name);
+            }
+            std::snprintf(name, sizeof name, "maps/particles_%08ld.pvtu", step);
+            writeParticlesPvtu((out_ / name).string(), pieces, views);
+            pvd_->add(time, name);
+            pvd_->write();
+        }
+        return;
+    }
     std::snprintf(name, sizeof name, "maps/particles_%08ld.vtu", step);
     writeParticlesVtu((out_ / name).string(), p.size(), p.position.data(), p.radius.data(), views);
-    pvd_.add(time, name);
-    pvd_.write();
+    pvd_->add(time, name);
+    pvd_->write();
     if (effects.coupling) {
         // Effect coupling: the CNEM continuum as a second series (its domain tetrahedra, deformed), with
         // displacement, velocity, smoothed strain and stress, and the partition weight α_c per node.

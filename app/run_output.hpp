@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,10 @@ class MapWriter {
 public:
     /// `restart_time` >= 0 continues the collections of a restarted run (entries up to that time kept).
     MapWriter(const std::filesystem::path& out, const Scene& scene, const Model& model, double restart_time);
+    /// On a rank of a run over several ranks (model.part set): each rank writes its piece, rank 0 the .pvtu
+    /// and maps.pvd (collective in what it writes, though no message is sent).
+    MapWriter(const std::filesystem::path& out, const Scene& scene, const Model& model, double restart_time,
+              int rank, int ranks);
     void write(Model& model, Effects& effects, long step, double time);
 
     /// Buffers of the derived fields, reused between maps.
@@ -50,11 +55,14 @@ public:
 
 private:
     std::filesystem::path out_;
-    PvdCollection pvd_;
+    std::optional<PvdCollection> pvd_;
     PvdCollection cnem_pvd_;
     std::vector<OutputField> fields_;
     Buffers buffers_;
     CnemMapFields cnem_fields_;
+    int rank_ = 0;
+    int ranks_ = 1;
+    bool pieces_ = false;
 };
 
 } // namespace vitrum

@@ -1,5 +1,7 @@
 #include "io/vtk_writer.hpp"
 
+#include "io/atomic_file.hpp"
+
 #include "solver/errors.hpp"
 
 #include <vtkCellArray.h>
@@ -19,6 +21,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 namespace vitrum {
 namespace {
@@ -105,6 +108,31 @@ void writeParticlesVtu(const std::string& path, std::size_t n, const double* pos
     }
     point_data->SetActiveScalars("radius"); // so ParaView's Glyph offers it first as the scale array
     writeGrid(path, grid);
+}
+
+void writeParticlesPvtu(const std::string& path, const std::vector<std::string>& pieces,
+                        std::span<const FieldView> fields) {
+    std::ostringstream x;
+    x << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      << "  <PUnstructuredGrid GhostLevel=\"0\">\n"
+      << "    <PPointData Scalars=\"radius\">\n"
+      << "      <PDataArray type=\"Float64\" Name=\"radius\" NumberOfComponents=\"1\"/>\n";
+    for (const FieldView& f : fields) {
+        x << "      <PDataArray type=\"Float64\" Name=\"" << f.name << "\" NumberOfComponents=\"" << f.components
+          << "\"/>\n";
+    }
+    x << "    </PPointData>\n"
+      << "    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
+    for (const std::string& piece : pieces) {
+        x << "    <Piece Source=\"" << piece << "\"/>\n";
+    }
+    x << "  </PUnstructuredGrid>\n</VTKFile>\n";
+    try {
+        writeFileAtomically(path, x.str());
+    } catch (const std::exception& e) {
+        fail(path, e.what());
+    }
 }
 
 void writeBondsVtu(const std::string& path, std::size_t n_particles, const double* positions,

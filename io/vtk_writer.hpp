@@ -19,6 +19,13 @@ namespace vitrum {
 void writeParticlesVtu(const std::string& path, std::size_t n, const double* positions, const double* radius,
                        std::span<const FieldView> fields);
 
+/// Writes the .pvtu index of a particle map cut into pieces (one .vtu per MPI rank, each as writeParticlesVtu
+/// writes it, `pieces` relative to the .pvtu's directory): the points, "radius" and `fields` (name and
+/// component count; the values are in the pieces). Atomic (temporary and rename). ParaView opens it as one
+/// dataset.
+void writeParticlesPvtu(const std::string& path, const std::vector<std::string>& pieces,
+                        std::span<const FieldView> fields);
+
 /// Writes bonds as VTK_LINE cells between particles i[b] and j[b] over all n_particles points, with one
 /// cell-data array per bond field (n_bonds x components). Throws RuntimeFailure naming `path` on an index
 /// out of range, bad field views or a failed write.

@@ -68,15 +68,16 @@ void computeBeamLoads(const BondView& bonds, const ParticleView& particles, cons
     beamPass(bonds, particles, {true, law.evolve ? 2 : 1, damping.ratio, &law, &state});
 }
 
-double beamStrainEnergy(const BondView& b, const ParticleView& p, const DensificationView& d) {
-    return parallelReduce("bonds.strain_energy", b.n, 0.0, [&](std::size_t k, double& acc) {
+double beamStrainEnergy(const BondView& b, const ParticleView& p, const DensificationView& d, const ReduceSpan& span) {
+    const std::vector<std::size_t> bounds = chunksByOwner(b.i, b.n, p.n);
+    return parallelReduceSegments("bonds.strain_energy", bounds, 0.0, [&](std::size_t k, double& acc) {
         if (!b.broken[k]) {
             BeamKinematics kin = kinematicsOf(b, p, k);
             kin.stretch -= d.reference_strain[k] * b.rest_length[k];
             acc += EulerBernoulliBeam::make(d.young[k], d.shear[k], d.section_radius[k], b.rest_length[k])
                        .energy(kin);
         }
-    });
+    }, span);
 }
 
 void gatherBondLoads(const IncidenceView& inc, const BondView& b, const ParticleView& p) {
@@ -103,12 +104,13 @@ void computeBondForces(const IncidenceView& inc, const BondView& b, const Partic
     beamPass(b, p, pass);
 }
 
-double beamStrainEnergy(const BondView& b, const ParticleView& p) {
-    return parallelReduce("bonds.strain_energy", b.n, 0.0, [&](std::size_t k, double& acc) {
+double beamStrainEnergy(const BondView& b, const ParticleView& p, const ReduceSpan& span) {
+    const std::vector<std::size_t> bounds = chunksByOwner(b.i, b.n, p.n);
+    return parallelReduceSegments("bonds.strain_energy", bounds, 0.0, [&](std::size_t k, double& acc) {
         if (!b.broken[k]) {
             acc += lawOf(b, k).energy(kinematicsOf(b, p, k));
         }
-    });
+    }, span);
 }
 
 } // namespace vitrum

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "kernels/densification.hpp"
+#include "kernels/parallel.hpp"
 #include "kernels/views.hpp"
 
 namespace vitrum {
@@ -93,10 +94,14 @@ struct BondEffects {
 void computeBondForces(const IncidenceView& incidence, const BondView& bonds, const ParticleView& particles,
                        const BondEffects& effects);
 
-/// Total strain energy stored in the unbroken beams, nJ (deterministic reduction).
-double beamStrainEnergy(const BondView& bonds, const ParticleView& particles);
+/// Total strain energy stored in the unbroken beams, nJ: a deterministic reduction grouped by the particle chunk
+/// of each bond's end i (chunksByOwner), so that it splits like the particles. The bonds are those whose end i
+/// is in the particles [0, particles.n), ascending in i (every bond on one process; with a distributed span the
+/// process's owned bonds, the result global).
+double beamStrainEnergy(const BondView& bonds, const ParticleView& particles, const ReduceSpan& span = {});
 /// Same, with the densified bonds' reference strains (elastic energy only; the slider's dissipation is not in it).
-double beamStrainEnergy(const BondView& bonds, const ParticleView& particles, const DensificationView& state);
+double beamStrainEnergy(const BondView& bonds, const ParticleView& particles, const DensificationView& state,
+                        const ReduceSpan& span = {});
 
 namespace detail {
 /// The variant and data of one beam pass, as the lane-width dispatch hands it on (kernels/beam_lanes.hpp).

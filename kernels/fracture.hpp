@@ -54,4 +54,13 @@ struct ReleaseCount {
 ReleaseCount applyHydrostaticRelease(const HydrostaticRelease& law, const DamageView& damage,
                                      const IncidenceView& incidence, const BondBreakView& bonds, std::int64_t step);
 
+/// The passes one by one (a rank forwards its particles' released flags to the ranks that hold them as ghosts
+/// between the first and the second, so that both copies of a cut bond break in the same step).
+/// (1) The particles [0, damage.n) judge their stress; returns how many were released.
+long long releaseParticles(const HydrostaticRelease& law, const DamageView& damage, std::int64_t step);
+/// (2) Every unbroken bond with a released end breaks (`released` indexed by the bonds' ends); returns how many.
+long long breakReleasedBonds(const std::uint8_t* released, const BondBreakView& bonds);
+/// (3) The incidence's particles recount their broken bonds.
+void countBrokenBonds(const IncidenceView& incidence, const BondBreakView& bonds, std::int32_t* broken_bonds);
+
 } // namespace vitrum

@@ -173,7 +173,8 @@ double ToolGeometry::projectedArea(double h) const {
 }
 
 ToolReaction applyToolContacts(const ParticleView& p, const ToolGeometry& tool, const ToolContactLaw& law,
-                               const Vec3& tip, const Vec3& tip_velocity, double* contact_force) {
+                               const Vec3& tip, const Vec3& tip_velocity, double* contact_force,
+                               const ReduceSpan& span) {
     Vec3 lo;
     Vec3 hi;
     tool.bounds(lo, hi);
@@ -213,7 +214,7 @@ ToolReaction applyToolContacts(const ParticleView& p, const ToolGeometry& tool, 
         acc.force -= f;
         acc.contacts += 1;
         acc.max_overlap = std::max(acc.max_overlap, overlap);
-    });
+    }, span);
 }
 
 } // namespace vitrum

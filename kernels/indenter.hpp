@@ -20,6 +20,7 @@
 // regularisation lets a contact creep at |v_t| < v_r instead of sticking: no per-contact history is kept.
 #pragma once
 
+#include "kernels/parallel.hpp"
 #include "kernels/views.hpp"
 
 namespace vitrum {
@@ -70,8 +71,10 @@ struct ToolReaction {
 /// Adds the tool's contact force (and the friction torque) to every particle that overlaps it; the tool tip
 /// is at `tip` moving with `tip_velocity` (global frame, no rotation). `contact_force` (3n, may be null)
 /// receives each particle's contact force, zero where none, for the virial stress and the maps. Returns the
-/// reaction on the tool, summed in a fixed order (the same for any thread count).
+/// reaction on the tool, summed by the fixed tree (the same for any thread count, and with a distributed span
+/// the global reaction for any number of processes).
 ToolReaction applyToolContacts(const ParticleView& particles, const ToolGeometry& tool, const ToolContactLaw& law,
-                               const Vec3& tip, const Vec3& tip_velocity, double* contact_force);
+                               const Vec3& tip, const Vec3& tip_velocity, double* contact_force,
+                               const ReduceSpan& span = {});
 
 } // namespace vitrum

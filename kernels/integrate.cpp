@@ -72,7 +72,7 @@ void cundallLocalDamping(const ParticleView& p, double alpha, const double* unba
 
 namespace {
 /// Adds particle i's kinetic energy and the watchdog's measures to `acc` (one element of the reductions).
-inline void accumulateKinetic(const ParticleView& p, std::size_t i, KineticEnergy& acc) {
+inline void accumulateKinetic(const ParticleView& p, std::size_t i, const ReduceSpan& span, KineticEnergy& acc) {
     const Vec3 v = load3(p.velocity, i);
     const Vec3 w = load3(p.angular_velocity, i);
     const double v2 = v.squaredNorm();
@@ -82,27 +82,28 @@ inline void accumulateKinetic(const ParticleView& p, std::size_t i, KineticEnerg
     const double s = std::sqrt(v2);
     if (s > acc.max_speed) {
         acc.max_speed = s;
-        acc.fastest = static_cast<long>(i);
+        acc.fastest = static_cast<long>(span.globalIndex(i));
     }
     const double spin = std::sqrt(w2);
     if (spin > acc.max_spin) {
         acc.max_spin = spin;
-        acc.fastest_spin = static_cast<long>(i);
+        acc.fastest_spin = static_cast<long>(span.globalIndex(i));
     }
     const bool finite = std::isfinite(v2) && std::isfinite(w2) && std::isfinite(load3(p.position, i).squaredNorm());
     if (!finite && acc.first_nonfinite < 0) {
-        acc.first_nonfinite = static_cast<long>(i);
+        acc.first_nonfinite = static_cast<long>(span.globalIndex(i));
     }
     acc.finite = acc.finite && finite;
 }
 } // namespace
 
-KineticEnergy kineticEnergy(const ParticleView& p) {
-    return parallelReduce("integrate.kinetic_energy", p.n, KineticEnergy{},
-                          [&](std::size_t i, KineticEnergy& acc) { accumulateKinetic(p, i, acc); });
+KineticEnergy kineticEnergy(const ParticleView& p, const ReduceSpan& span) {
+    return parallelReduce(
+        "integrate.kinetic_energy", p.n, KineticEnergy{},
+        [&](std::size_t i, KineticEnergy& acc) { accumulateKinetic(p, i, span, acc); }, span);
 }
 
-KineticEnergy halfKickAndMeasure(const ParticleView& p, double dt) {
+KineticEnergy halfKickAndMeasure(const ParticleView& p, double dt, const ReduceSpan& span) {
     const double h = 0.5 * dt;
     return parallelReduce("integrate.kick", p.n, KineticEnergy{}, [&](std::size_t i, KineticEnergy& acc) {
         if (!(p.flags[i] & kKinematic)) {
@@ -113,16 +114,16 @@ KineticEnergy halfKickAndMeasure(const ParticleView& p, double dt) {
                 p.angular_velocity[3 * i + c] += b * p.torque[3 * i + c];
             }
         }
-        accumulateKinetic(p, i, acc);
-    });
+        accumulateKinetic(p, i, span, acc);
+    }, span);
 }
 
-Momentum momentum(const ParticleView& p) {
+Momentum momentum(const ParticleView& p, const ReduceSpan& span) {
     return parallelReduce("integrate.momentum", p.n, Momentum{}, [&](std::size_t i, Momentum& acc) {
         const Vec3 mv = p.mass[i] * load3(p.velocity, i);
         acc.linear += mv;
         acc.angular += load3(p.position, i).cross(mv) + p.inertia[i] * load3(p.angular_velocity, i);
-    });
+    }, span);
 }
 
 } // namespace vitrum

@@ -4,6 +4,7 @@
 // §3.1). Particles flagged kKinematic are not kicked: a boundary condition owns their velocity.
 #pragma once
 
+#include "kernels/parallel.hpp"
 #include "kernels/views.hpp"
 
 namespace vitrum {
@@ -29,13 +30,14 @@ struct KineticEnergy {
     double max_speed = 0.0; ///< km/s, the largest |v| (for instability detection)
     double max_spin = 0.0;  ///< rad/ns, the largest |ω| (for instability detection)
     bool finite = true;     ///< false when any velocity or position is NaN/Inf
-    long fastest = -1;      ///< particle with the largest |v| (the first such), -1 if none
-    long fastest_spin = -1; ///< particle with the largest |ω|
-    long first_nonfinite = -1; ///< first particle with a non-finite position or velocity
+    long fastest = -1;      ///< particle with the largest |v| (the first such), -1 if none (global index)
+    long fastest_spin = -1; ///< particle with the largest |ω| (global index)
+    long first_nonfinite = -1; ///< first particle with a non-finite position or velocity (global index)
     KineticEnergy& operator+=(const KineticEnergy& o) {
         translational += o.translational;
         rotational += o.rotational;
-        // Ties keep the earlier operand: chunks are combined in index order, so the lowest index wins.
+        // Ties keep the earlier operand: the tree's left operand covers the lower indices, so the lowest index
+        // wins.
         if (o.max_speed > max_speed) {
             max_speed = o.max_speed;
             fastest = o.fastest;
@@ -51,12 +53,14 @@ struct KineticEnergy {
         return *this;
     }
 };
-KineticEnergy kineticEnergy(const ParticleView& p);
+/// Over the particles [0, p.n) (with a distributed span: this process's part, the result global; particle
+/// indices in the result are global: span.globalIndex).
+KineticEnergy kineticEnergy(const ParticleView& p, const ReduceSpan& span = {});
 
 /// halfKick fused with kineticEnergy of the kicked state: one pass, the same velocities bit for bit, and the
 /// watchdog's per-step measures (largest speed and spin, first non-finite particle) at the cost of a
 /// deterministic reduction. The composed step ends with it.
-KineticEnergy halfKickAndMeasure(const ParticleView& p, double dt);
+KineticEnergy halfKickAndMeasure(const ParticleView& p, double dt, const ReduceSpan& span = {});
 
 /// Total linear momentum Σ m v and angular momentum about the origin Σ (x × m v + J ω).
 struct Momentum {
@@ -68,6 +72,6 @@ struct Momentum {
         return *this;
     }
 };
-Momentum momentum(const ParticleView& p);
+Momentum momentum(const ParticleView& p, const ReduceSpan& span = {});
 
 } // namespace vitrum

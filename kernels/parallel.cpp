@@ -78,6 +78,38 @@ std::size_t rangeParts(std::size_t n, std::size_t task_grain) {
     return std::max<std::size_t>(1, std::min(parts, n));
 }
 
+std::vector<std::size_t> uniformChunks(std::size_t n, std::size_t chunk) {
+    std::vector<std::size_t> bounds;
+    bounds.reserve(n / chunk + 2);
+    for (std::size_t b = 0; b < n; b += chunk) {
+        bounds.push_back(b);
+    }
+    bounds.push_back(n);
+    if (bounds.size() == 1) {
+        bounds.clear(); // no chunk at all
+    }
+    return bounds;
+}
+
+std::vector<std::size_t> chunksByOwner(const std::int32_t* owner, std::size_t count, std::size_t n_owners) {
+    // Items whose owner lies beyond n_owners fall into the last chunk; with no owner at all, one chunk holds
+    // every item (a reduction never loses items).
+    const std::size_t chunks = std::max<std::size_t>((n_owners + kReduceChunk - 1) / kReduceChunk, count > 0 ? 1 : 0);
+    std::vector<std::size_t> bounds(chunks + (chunks > 0 ? 1 : 0), count);
+    if (chunks == 0) {
+        return bounds;
+    }
+    bounds[0] = 0;
+    for (std::size_t c = 1; c < chunks; ++c) {
+        const auto limit = static_cast<std::int64_t>(c * kReduceChunk);
+        bounds[c] = static_cast<std::size_t>(
+            std::lower_bound(owner, owner + count, limit,
+                             [](std::int32_t o, std::int64_t l) { return static_cast<std::int64_t>(o) < l; }) -
+            owner);
+    }
+    return bounds;
+}
+
 void setThreadCount(int n) {
     if (n > 0) {
         omp_set_num_threads(n);

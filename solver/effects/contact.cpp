@@ -11,6 +11,7 @@
 #include "kernels/parallel.hpp"
 #include "solver/effects/coupling.hpp"
 #include "solver/model/model.hpp"
+#include "solver/parallel/domain.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 #include "solver/step/time_step.hpp"
@@ -269,6 +270,10 @@ std::optional<Contact> buildContact(const Scene& scene, const Model& model) {
 
 void addContactPhases(Step& step) {
     step.add("contacts.update", true, [](StepContext& c) {
+        if (c.domain) { // a rank: its pairs with an owned end and a fresh spatial halo (solver/parallel)
+            updateRankedContacts(*c.domain, c.model, c.effects);
+            return;
+        }
         c.effects.contact->list.update(c.model.particles, c.model.bonds, c.model.incidence);
     });
     step.add("contacts.forces", true, [](StepContext& c) {

@@ -30,7 +30,7 @@ std::optional<Damping> buildDamping(const Scene& scene) {
 void addCundallDampingPhase(Step& step, double alpha) {
     step.add("damping.cundall", true, [alpha](StepContext& c) {
         if (!c.effects.coupling) {
-            cundallLocalDamping(c.model.particles.view(), alpha);
+            cundallLocalDamping(ownedView(c.model), alpha);
             return;
         }
         // Both models alike, by the net force of the constrained motion: a bridging particle's or zone node's

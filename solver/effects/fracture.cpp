@@ -4,10 +4,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "kernels/parallel.hpp"
 #include "solver/effects/contact.hpp"
 #include "solver/effects/indenter.hpp"
 #include "solver/model/model.hpp"
 #include "solver/model/sample.hpp"
+#include "solver/parallel/domain.hpp"
 #include "solver/step/time_step.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
@@ -28,7 +30,7 @@ ParticleVolume particleVolume(const Scene& scene) {
 namespace {
 /// Eq (10) into particles.stress; with averaging, eq (10) into the scratch (6n) and its neighbour mean into the
 /// stress.
-void stressOf(Model& m, Fracture& fracture, Contact* contact) {
+void stressOf(Model& m, Fracture& fracture, Contact* contact, Domain* domain) {
     ContactList* list = contact && contact->list.size() > 0 ? &contact->list : nullptr;
     const ContactPairView pairs = list ? list->view() : ContactPairView{};
     const IncidenceView pair_incidence = list ? list->incidenceView() : IncidenceView{};
@@ -42,6 +44,9 @@ void stressOf(Model& m, Fracture& fracture, Contact* contact) {
     computeVirialStress(m.incidence.view(), m.bonds.view(), m.particles.view(), pair_incidence, pairs,
                         fracture.point_forces.view(), volume, raw);
     if (fracture.averaging) {
+        if (domain) { // the neighbours' eq (10) stress: the ghosts' from their owners
+            forwardToGhosts(*domain, {{fracture.scratch.data(), 6 * sizeof(double)}});
+        }
         averageOverBondedNeighbours(m.incidence.view(), m.bonds.view(), m.particles.view(), volume, raw,
                                     m.particles.stress.data());
     }
@@ -82,13 +87,13 @@ void computeStress(Model& model, Fracture& fracture, Contact* contact, const Ind
     if (fracture.averaging) {
         fracture.scratch.assign(model.particles.stress.size(), 0.0);
     }
-    stressOf(model, fracture, contact);
+    stressOf(model, fracture, contact, nullptr);
 }
 
 void toolPointForces(const Model& m, const Indenter& tool, PointForces& out) {
     out.clear();
     const std::vector<double>& f = tool.contact_force;
-    for (std::size_t q = 0; q < m.particles.size(); ++q) {
+    for (std::size_t q = 0; q < ownedCount(m); ++q) {
         const Vec3 force = load3(f.data(), q);
         const double magnitude = force.norm();
         if (magnitude > 0.0) {
@@ -112,20 +117,39 @@ void addFracturePhase(Step& step) {
         if (c.effects.indenter) { // the tool's contacts with their branch vectors
             toolPointForces(m, *c.effects.indenter, fracture.point_forces);
         }
-        stressOf(m, fracture, c.effects.contact ? &*c.effects.contact : nullptr);
+        stressOf(m, fracture, c.effects.contact ? &*c.effects.contact : nullptr, c.domain);
         const BondBreakView bonds{m.bonds.size(), m.bonds.i.data(), m.bonds.j.data(), m.bonds.broken.data()};
-        applyHydrostaticRelease(fracture.law, m.particles.damageView(), m.incidence.view(), bonds, n);
+        if (!c.domain) {
+            applyHydrostaticRelease(fracture.law, m.particles.damageView(), m.incidence.view(), bonds, n);
+            return;
+        }
+        // On a rank: its owned particles judge, their flags reach the ranks that hold them as ghosts, then every
+        // local bond with a released end breaks, so both copies of a cut bond break in this step.
+        DamageView owned = m.particles.damageView();
+        owned.n = ownedCount(m);
+        releaseParticles(fracture.law, owned, n);
+        forwardToGhosts(*c.domain, {{m.particles.released.data(), sizeof(std::uint8_t)}});
+        if (breakReleasedBonds(m.particles.released.data(), bonds) > 0) {
+            countBrokenBonds(m.incidence.view(), bonds, m.particles.broken_bonds.data());
+        }
     });
 }
 
 DamageTotals damageTotals(const Model& model) {
+    // The owned particles and bonds (all of them on one process), summed over the ranks by the tree: integer
+    // sums, exact in any order.
     DamageTotals t;
-    for (std::uint8_t b : model.bonds.broken) {
-        t.broken_bonds += b ? 1 : 0;
-    }
-    for (std::uint8_t r : model.particles.released) {
-        t.released += r ? 1 : 0;
-    }
+    const ReduceSpan span = particleSpan(model);
+    const std::size_t owned = ownedCount(model);
+    const std::uint8_t* released = model.particles.released.empty() ? nullptr : model.particles.released.data();
+    t.released = parallelReduce("fracture.totals", released ? owned : 0, 0LL,
+                                [&](std::size_t p, long long& acc) { acc += released[p] ? 1 : 0; }, span);
+    const std::size_t first = model.part ? model.part->first_owned_bond : 0;
+    const std::size_t count = model.bonds.size() - first;
+    const std::vector<std::size_t> bounds = chunksByOwner(model.bonds.i.data() + first, count, owned);
+    t.broken_bonds = parallelReduceSegments("fracture.totals", bounds, 0LL, [&](std::size_t k, long long& acc) {
+        acc += model.bonds.broken[first + k] ? 1 : 0;
+    }, span);
     return t;
 }
 
@@ -154,8 +178,8 @@ void summarize(const Fracture&, const Model& model, const RunClock&, nlohmann::o
     nlohmann::ordered_json& m = summary["measurements"];
     m["broken_bonds"] = d.broken_bonds;
     m["released_particles"] = d.released;
-    m["broken_bond_fraction"] =
-        model.bonds.size() ? static_cast<double>(d.broken_bonds) / static_cast<double>(model.bonds.size()) : 0.0;
+    const std::size_t bonds = globalBondCount(model);
+    m["broken_bond_fraction"] = bonds ? static_cast<double>(d.broken_bonds) / static_cast<double>(bonds) : 0.0;
 }
 
 } // namespace vitrum

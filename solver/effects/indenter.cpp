@@ -132,7 +132,7 @@ void addIndenterMovePhase(Step& step) {
             if (c.effects.coupling) {
                 ke = coupledKineticEnergy(c.model, *c.effects.coupling); // both weighted models must be at rest
             } else {
-                const KineticEnergy k = kineticEnergy(c.model.particles.view());
+                const KineticEnergy k = kineticEnergy(ownedView(c.model), particleSpan(c.model));
                 ke = k.translational + k.rotational;
             }
         }
@@ -143,8 +143,10 @@ void addIndenterMovePhase(Step& step) {
 void addIndenterContactPhase(Step& step) {
     step.add("indenter.contact", true, [](StepContext& c) {
         Indenter& ind = *c.effects.indenter;
-        ind.reaction = applyToolContacts(c.model.particles.view(), ind.tool, ind.law, ind.tip,
-                                         Vec3(0, 0, ind.tip_velocity), ind.contact_force.data());
+        // The reaction is a global sum (the fixed tree over the owned particles of every rank): it feeds the
+        // stage logic of the next step, which every rank runs alike.
+        ind.reaction = applyToolContacts(ownedView(c.model), ind.tool, ind.law, ind.tip, Vec3(0, 0, ind.tip_velocity),
+                                         ind.contact_force.data(), particleSpan(c.model));
         if (ind.force() > ind.max_force) {
             ind.max_force = ind.force();
             ind.depth_at_max_force = ind.depth();

@@ -95,9 +95,10 @@ DensificationView Bonds::densificationView() {
 Incidence Incidence::build(std::size_t n_particles, const Bonds& bonds) {
     Incidence inc;
     inc.offset.assign(n_particles + 1, 0);
+    const auto row = [&](std::int32_t end) { return static_cast<std::size_t>(end) < n_particles; };
     for (std::size_t k = 0; k < bonds.size(); ++k) {
-        ++inc.offset[static_cast<std::size_t>(bonds.i[k]) + 1];
-        ++inc.offset[static_cast<std::size_t>(bonds.j[k]) + 1];
+        if (row(bonds.i[k])) ++inc.offset[static_cast<std::size_t>(bonds.i[k]) + 1];
+        if (row(bonds.j[k])) ++inc.offset[static_cast<std::size_t>(bonds.j[k]) + 1];
     }
     for (std::size_t p = 0; p < n_particles; ++p) {
         inc.offset[p + 1] += inc.offset[p];
@@ -106,8 +107,8 @@ Incidence Incidence::build(std::size_t n_particles, const Bonds& bonds) {
     std::vector<std::int32_t> fill(inc.offset.begin(), inc.offset.end() - 1);
     for (std::size_t k = 0; k < bonds.size(); ++k) { // ascending k: entries end up in bond order
         const auto code = static_cast<std::int32_t>(2 * k);
-        inc.entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.i[k])]++)] = code;
-        inc.entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.j[k])]++)] = code + 1;
+        if (row(bonds.i[k])) inc.entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.i[k])]++)] = code;
+        if (row(bonds.j[k])) inc.entry[static_cast<std::size_t>(fill[static_cast<std::size_t>(bonds.j[k])]++)] = code + 1;
     }
     inc.ready.resize(n_particles);
     std::int32_t ready = 0;

@@ -56,6 +56,8 @@ struct Incidence {
         ready; ///< n_particles: prefix maximum of (largest incident bond + 1), IncidenceView
 
     /// Builds the CSR incidence of `bonds` over `n_particles` particles (entries of a particle in bond order).
+    /// A bond end at or beyond n_particles gets no row: on a rank (solver/parallel) the rows are the owned
+    /// particles, the ghosts after them have none.
     static Incidence build(std::size_t n_particles, const Bonds& bonds);
 
     /// Number of bonds incident to particle p.

@@ -82,8 +82,8 @@ void CellGrid::bin(const double* x, std::size_t n, const char* label) {
     auto locate = [&](std::size_t i) {
         cell_index_[i] = static_cast<std::uint32_t>(flat(cellOf(load3(x, i))));
     };
-    // Below 2 kReduceChunk points the fork/join costs more than the loop (tens of microseconds).
-    if (label != nullptr && n >= 2 * kReduceChunk) {
+    // Below 4096 points the fork/join costs more than the loop (tens of microseconds).
+    if (label != nullptr && n >= 4096) {
         parallelFor(label, n, locate);
     } else if (label != nullptr) {
         ScopedTimer timer(label);

@@ -46,7 +46,7 @@ public:
     void setupAround(const double* x, std::size_t n, double cell, std::size_t max_cells = kMaxCells);
 
     /// Counting sort of n points (3n interleaved coordinates) into the cells. With a `label`, the cell of
-    /// each point is computed on all threads from 2 kReduceChunk points on (and timed under the label);
+    /// each point is computed on all threads from 4096 points on (and timed under the label);
     /// the binning is the same either way. Throws CellGridError for more than 2^31 − 1 points.
     void bin(const double* x, std::size_t n, const char* label = nullptr);
 

@@ -37,6 +37,65 @@ std::size_t Model::setIndex(const std::string& name) const {
     throw std::out_of_range("no particle set named '" + name + "'");
 }
 
+std::size_t ownedCount(const Model& model) { return model.part ? model.part->owned : model.particles.size(); }
+
+ParticleView ownedView(Model& model) {
+    ParticleView v = model.particles.view();
+    v.n = ownedCount(model);
+    return v;
+}
+
+ReduceSpan particleSpan(const Model& model) { return model.part ? model.part->span : ReduceSpan{}; }
+
+namespace {
+std::size_t firstOwnedBond(const Model& model) { return model.part ? model.part->first_owned_bond : 0; }
+} // namespace
+
+BondView ownedBondView(Model& model) {
+    BondView v = model.bonds.view();
+    const std::size_t f = firstOwnedBond(model);
+    v.n -= f;
+    v.i += f;
+    v.j += f;
+    v.rest_length += f;
+    v.section_radius += f;
+    v.young += f;
+    v.shear += f;
+    v.axis_i += 3 * f;
+    v.axis_j += 3 * f;
+    v.twist_ref += 4 * f;
+    v.broken += f;
+    v.force += 3 * f;
+    v.torque_i += 3 * f;
+    v.torque_j += 3 * f;
+    return v;
+}
+
+DensificationView ownedDensificationView(Model& model) {
+    DensificationView v = model.bonds.densificationView();
+    const std::size_t f = firstOwnedBond(model);
+    v.n -= f;
+    v.slip += f;
+    v.reference_strain += f;
+    v.young += f;
+    v.shear += f;
+    v.section_radius += f;
+    v.axis_i += 3 * f;
+    v.axis_j += 3 * f;
+    v.twist_ref += 4 * f;
+    return v;
+}
+
+std::int64_t globalId(const Model& model, std::size_t p) {
+    return model.part ? model.part->global_id[p] : static_cast<std::int64_t>(p);
+}
+
+std::size_t globalParticleCount(const Model& model) {
+    return model.part ? model.part->global_particles : model.particles.size();
+}
+
+std::size_t globalBondCount(const Model& model) { return model.part ? model.part->global_bonds : model.bonds.size(); }
+
 namespace {
 
 /// What one particle costs at the peak of a run, bytes: the stores with ~3 bonds each, the watchdog's copy of

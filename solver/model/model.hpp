@@ -3,10 +3,12 @@
 // (solver/effects/effects.hpp), behaviour in kernels and in the composed step.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "kernels/pages.hpp"
+#include "kernels/parallel.hpp"
 #include "solver/model/bonds.hpp"
 #include "solver/model/particles.hpp"
 #include "solver/model/sample.hpp"
@@ -30,6 +32,23 @@ struct BoundaryCondition {
     Vec3 rateAt(double t) const;
 };
 
+/// A rank's part of a sample run on several MPI ranks (solver/parallel/decomposition.hpp): the stores hold the
+/// particles the rank owns (a contiguous range of global ids, in global order), then its ghosts (copies of
+/// other ranks' particles, in global order); the bonds with at least one owned end, in global bond order,
+/// those whose end i is owned last (the rank's owned bonds). The incidence has rows for the owned particles
+/// only; the sets hold owned members only. On one process there is no part: everything is owned.
+struct LocalPart {
+    std::size_t owned = 0;                 ///< particles [0, owned) are this rank's
+    std::vector<std::int64_t> global_id;   ///< local particle → global id (owned then ghosts)
+    std::size_t first_owned_bond = 0;      ///< bonds [first_owned_bond, size) have their end i owned
+    std::vector<std::int64_t> global_bond; ///< local bond → global bond index
+    std::size_t global_particles = 0;
+    std::size_t global_bonds = 0;
+    ReduceSpan span;                       ///< the owned particles' place in the global reduction tree
+    int rank = 0;
+    int ranks = 1;
+};
+
 struct Model {
     Particles particles;
     Bonds bonds;
@@ -38,10 +57,26 @@ struct Model {
     std::vector<BoundaryCondition> boundaries;
     SampleParams sample;      ///< geometry the sample was built for (µm)
     double spacing = 0.0;     ///< lattice constant, µm
+    std::optional<LocalPart> part; ///< set on a rank of a run over several ranks (MPI)
 
     /// Index of the set called `name`; throws std::out_of_range if none.
     std::size_t setIndex(const std::string& name) const;
 };
+
+/// The particles this process integrates: all of them, or a rank's owned ones (the first part.owned).
+std::size_t ownedCount(const Model& model);
+/// The particle view over the owned particles (n = ownedCount; ghosts stay reachable through bond ends).
+ParticleView ownedView(Model& model);
+/// The owned particles' reduction span (one process: the default, everything local).
+ReduceSpan particleSpan(const Model& model);
+/// The bonds this process owns (end i owned): all of them on one process. For reductions over bonds.
+BondView ownedBondView(Model& model);
+DensificationView ownedDensificationView(Model& model);
+/// The global id of local particle `p` (itself on one process).
+std::int64_t globalId(const Model& model, std::size_t p);
+/// Particles and bonds of the whole sample (the local counts on one process).
+std::size_t globalParticleCount(const Model& model);
+std::size_t globalBondCount(const Model& model);
 
 /// Particle centres and radii with the pairs to bond (i < j, sorted): the geometric part of a model.
 struct BondedSample {

@@ -163,20 +163,27 @@ double sphereVolume(double r) {
 
 // Small problems run their loops on the calling thread: a sweep of a few thousand particles takes tens of
 // microseconds, less than the fork/join barriers cost when the cores are shared with other work. Below the
-// threshold the loops do exactly what parallelFor / parallelReduce do on one thread (same chunks, same order
-// of partial sums), so results do not depend on which path ran or on the thread count.
-constexpr std::size_t kParallelFrom = 2 * kReduceChunk;
+// threshold the loops do exactly what the threaded path does on one thread (same chunks, same order of
+// partial sums), so results do not depend on which path ran or on the thread count. The packer keeps its own
+// order (chunk partials added in chunk order, not parallelReduce's tree): it runs before any decomposition,
+// and its packings, cached in sample files, stay the same bits as before the tree.
+constexpr std::size_t kPackChunk = 2048; // the packer's own chunk (kReduceChunk was 2048 when its packings were made)
+constexpr std::size_t kParallelFrom = 2 * kPackChunk;
 
 template <class T, class Contribution>
 T reduceOver(const char* label, std::size_t n, const T& zero, Contribution&& contribution) {
+    T total = zero;
     if (n >= kParallelFrom) {
-        return parallelReduce(label, n, zero, contribution);
+        const std::vector<std::size_t> bounds = uniformChunks(n, kPackChunk);
+        for (const T& partial : chunkPartials(label, bounds, zero, contribution)) {
+            total += partial;
+        }
+        return total;
     }
     ScopedTimer timer(label);
-    T total = zero;
-    for (std::size_t begin = 0; begin < n; begin += kReduceChunk) {
+    for (std::size_t begin = 0; begin < n; begin += kPackChunk) {
         T acc = zero;
-        const std::size_t end = std::min(n, begin + kReduceChunk);
+        const std::size_t end = std::min(n, begin + kPackChunk);
         for (std::size_t i = begin; i < end; ++i) {
             contribution(i, acc);
         }

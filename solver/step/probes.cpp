@@ -11,16 +11,19 @@ namespace vitrum {
 ProbeValues measureProbes(Model& model, const std::vector<std::size_t>& probed_sets, double time) {
     ProbeValues v;
     v.time = time;
-    const ParticleView p = model.particles.view();
-    v.kinetic = kineticEnergy(p);
+    // Owned particles and bonds with the global span: on several ranks every probe is a global sum (a
+    // collective call on every rank), the same bits as on one.
+    const ParticleView p = ownedView(model);
+    const ReduceSpan span = particleSpan(model);
+    v.kinetic = kineticEnergy(p, span);
     v.strain_energy = model.bonds.densificationEnabled() && model.bonds.size() > 0
-                          ? beamStrainEnergy(model.bonds.view(), p, model.bonds.densificationView())
-                          : beamStrainEnergy(model.bonds.view(), p);
+                          ? beamStrainEnergy(ownedBondView(model), p, ownedDensificationView(model), span)
+                          : beamStrainEnergy(ownedBondView(model), p, span);
     for (std::size_t s : probed_sets) {
         const NamedSet& set = model.sets[s];
-        v.reaction.push_back(setForceSum(p, set.members.data(), set.members.size()));
-        v.displacement.push_back(
-            setMeanDisplacement(p, model.particles.initial_position.data(), set.members.data(), set.members.size()));
+        v.reaction.push_back(setForceSum(p, set.members.data(), set.members.size(), span));
+        v.displacement.push_back(setMeanDisplacement(p, model.particles.initial_position.data(), set.members.data(),
+                                                     set.members.size(), span));
     }
     return v;
 }

@@ -7,6 +7,7 @@
 #include "solver/effects/coupling.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/model/model.hpp"
+#include "solver/parallel/domain.hpp"
 
 namespace vitrum {
 
@@ -51,7 +52,7 @@ namespace {
 
 void addKickDriftPhase(Step& step) {
     step.add("integrate.kick_drift", false, [](StepContext& c) {
-        const ParticleView p = c.model.particles.view();
+        const ParticleView p = ownedView(c.model); // the ghosts come from their owners (halo.forward)
         halfKick(p, c.dt);
         drift(p, c.dt);
     });
@@ -59,7 +60,7 @@ void addKickDriftPhase(Step& step) {
 
 void addKickPhase(Step& step) {
     step.add("integrate.kick", false,
-             [](StepContext& c) { c.kinetic = halfKickAndMeasure(c.model.particles.view(), c.dt); });
+             [](StepContext& c) { c.kinetic = halfKickAndMeasure(ownedView(c.model), c.dt, particleSpan(c.model)); });
 }
 
 void addPrescribedDisplacementPhase(Step& step) {
@@ -140,6 +141,7 @@ Step composeStep(const Model& model, const Effects& fx) {
     if (hasDisplacementBoundary(model)) addPrescribedDisplacementPhase(step);
     if (fx.indenter) addIndenterMovePhase(step);
     if (fx.plasticity) addPlasticityPhase(step);
+    if (model.part) addHaloPhase(step, fx); // every ghost current before the bond pass reads it
     addBondPhase(step, fx);
     addGatherPhase(step);
     if (fx.contact) addContactPhases(step);

@@ -6,6 +6,8 @@
 //   integrate.kick_drift   v,ω += Δt/2·F/m, T/J; x += Δt v; q ← exp(Δt ω/2) q     (coupled: coupling.kick_drift)
 //   bc.prescribe           displacement ramps of constrained sets                 (a displacement boundary)
 //   indenter.move          stage logic, then the tip moves                         (indenter)
+//   halo.forward           the ghosts' positions, orientations (+ velocities, spins) from their owners
+//                                                                                  (MPI, several ranks)
 //   plasticity.return      cap return on the particles' strain; bonds' rest states (plasticity)
 //   bonds.beam_loads       Euler–Bernoulli beam loads per bond, eqs (1)–(4)        (always)
 //                          + the spring-slider in the same pass                    (densification)
@@ -31,6 +33,7 @@
 
 namespace vitrum {
 
+struct Domain;
 struct Effects;
 struct Model;
 
@@ -44,6 +47,9 @@ struct StepContext {
     /// Set by the final kick (halfKickAndMeasure): kinetic energy, largest speed and spin and the first
     /// non-finite particle of the state at the end of the step; the driver's watchdog reads it every step.
     KineticEnergy kinetic{};
+    /// On a rank of a run over several MPI ranks (solver/parallel/domain.hpp): its ghosts, their exchange and
+    /// the spatial halo of the contacts; null on one process.
+    Domain* domain = nullptr;
 };
 
 /// How much of the run this process took: steps and the phases' wall time (for per-step costs in summaries).

@@ -1,5 +1,5 @@
 // state_sha256 is the same for 1 and 2 threads on every example scene (issue 8), reduced so that each run
-// takes seconds but still has several reduction chunks (≥ 2 × 2048 bonds) for the threads to share. The
+// takes seconds but still has several reduction chunks (≥ 2 × 512 particles) for the threads to share. The
 // compression cylinder, the tensile cylinder on a fresh packing and the quickstart are covered in test_runs
 // and test_indentation; here the others, with and without densification, fracture, contacts and the tool.
 #include <filesystem>

@@ -18,7 +18,7 @@ namespace {
 
 Model agitatedLattice() {
     Model m =
-        testing::fccModel(SampleShape::Sphere, 3.0, 6000); // > several reduction chunks (kReduceChunk = 2048)
+        testing::fccModel(SampleShape::Sphere, 3.0, 6000); // > several reduction chunks (kReduceChunk = 512)
     std::mt19937_64 rng(1);
     std::normal_distribution<double> g(0.0, 1e-3);
     for (double& x : m.particles.position) x += g(rng);

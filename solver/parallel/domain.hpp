@@ -1,0 +1,115 @@
+// A rank's share of a run over several MPI ranks (issue 27; reference note scale-out.md §2): ownership by
+// particle id (solver/parallel/partition.hpp), bond partners as ghosts, cross-rank bonds computed on both
+// ranks, forward exchange only.
+//
+//   local stores   owned particles (global order), bond ghosts (global order), contact ghosts (global order);
+//                  the bonds with at least one owned end in global bond order (Model::part, model.hpp)
+//   halo.forward   each step before the bond pass: the ghosts' positions and orientations, and with contacts
+//                  or bond-viscous damping their velocities and spins, from their owners (one message per
+//                  neighbour rank, particles in global order on both sides, so no ids travel)
+//   cut bonds      computed on both ranks from bit-equal inputs: both copies carry the same per-bond state and
+//                  break in the same step (the released flags of the ghosts are forwarded before the break pass)
+//   reductions     the fixed tree of kernels/parallel.hpp over the owned particles' chunks (Comm all-gathers
+//                  the nodes), so every global sum is the same bits on any number of ranks and threads
+//
+// Nothing here decides physics: the phases of the effects call these exchanges where their data must be
+// current on the ghosts.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "solver/effects/contact.hpp"
+#include "solver/parallel/comm.hpp"
+#include "solver/parallel/partition.hpp"
+
+namespace vitrum {
+
+class Step;
+struct Effects;
+struct Model;
+struct Scene;
+
+/// Who sends which particles to whom: per neighbour rank (ascending), the owned particles sent (local
+/// indices, ascending = global order) and the range of ghosts received (contiguous, global order).
+struct Halo {
+    std::vector<int> peers;
+    std::vector<std::vector<std::int32_t>> send;
+    std::vector<std::pair<std::size_t, std::size_t>> receive; ///< [first, first + count) per peer
+
+    std::size_t sent() const;
+    std::size_t received() const;
+};
+
+/// A field of the particles as it travels: `bytes` per particle at `data` (a store's array).
+struct HaloField {
+    void* data = nullptr;
+    std::size_t bytes = 0;
+};
+
+/// The contact pairs of a rank's Verlet list by global ids (parallel to ContactList::i, j), and the tangential
+/// springs a restart restored, by global ids (carried into the first list built).
+struct GlobalPairs {
+    std::vector<std::int64_t> i, j;
+    std::vector<double> tangential; ///< restored history only (3 per pair)
+};
+
+struct Domain {
+    Comm* comm = nullptr;
+    Partition partition;
+    Halo bond_halo;               ///< fixed: the partners of the owned particles' bonds
+    Halo contact_halo;            ///< rebuilt with the Verlet list: particles near the owned ones
+    std::size_t bond_ghost_end = 0; ///< local particles [owned, bond_ghost_end) are bond ghosts, then contact ones
+    bool velocities = false;      ///< halo.forward also carries velocities and spins (contacts, viscous damping)
+    GlobalPairs pairs;            ///< the Verlet list by global ids
+    GlobalPairs restored;         ///< a restart's contact history until the first list is built
+    double max_radius = 0.0;      ///< the whole sample's largest radius (found at the first contact build)
+    long long spatial_halos = 0;  ///< statistics: spatial halos built
+};
+
+/// The rank's part of `full` (the whole sample and effects, built identically on every rank from the scene
+/// and, on a restart, the checkpoint): `local` gets the owned particles and their ghosts, the bonds with an
+/// owned end, the incidence of the owned particles and the owned members of every set; `effects` (built on
+/// `full`) has its per-particle state cut to the local particles. Returns the domain with the bond halo.
+/// Refuses (InputError) what cannot run on several ranks yet: effects coupling and plasticity, [[load]]
+/// pressure or stress, fracture.volume = "cells", measure.uniaxial.
+Domain localize(const Scene& scene, const Model& full, Effects& effects, Comm& comm, Model& local);
+
+/// Throws InputError when the scene asks for something that cannot run on several ranks (see localize).
+void refuseUnsupported(const Scene& scene, int ranks);
+
+/// Sends the owned particles' `fields` to the ranks that hold them as ghosts, into the ghosts' entries
+/// (collective among the neighbours): first the bond ghosts, then the contact ghosts.
+void forwardToGhosts(Domain& domain, const std::vector<HaloField>& fields);
+/// The step's exchange: positions and orientations, with domain.velocities also velocities and spins.
+void forwardState(Domain& domain, Model& model);
+
+/// The rank's Verlet list (effect contact; solver/parallel/contact_halo.cpp): rebuilt, with a fresh spatial
+/// halo of contact ghosts, when it is stale or some particle of any rank moved more than skin/2 since the
+/// last build (collective); returns whether it rebuilt. The list then holds the pairs with an owned end, in
+/// global pair order, end i the lower global id; its CSR rows are the owned particles.
+bool updateRankedContacts(Domain& domain, Model& model, Effects& effects);
+void buildRankedContacts(Domain& domain, Model& model, Effects& effects);
+
+/// Adds halo.forward (after the drift and every phase that moves particles, before the bond pass).
+void addHaloPhase(Step& step, const Effects& effects);
+
+/// The whole state on rank 0 from the ranks' owned rows (collective): every field of the particle and bond
+/// stores in global order, the bond ends as global ids; on other ranks `out` is left empty. The result is the
+/// store a run on one process would hold, bit for bit.
+void gatherStores(const Domain& domain, const Model& local, Particles& particles, Bonds& bonds);
+/// Also the contact history (the loaded tangential springs of the pairs whose end i this rank owns, by global
+/// ids via `pairs`, the list's pairs by global ids), on rank 0 in global pair order.
+ContactHistory gatherContactHistory(const Domain& domain, const Model& local, const ContactList& list,
+                                    const GlobalPairs& pairs);
+/// The active contact pairs (end i owned) by global ids, on rank 0 (for the watchdog's diagnosis).
+ContactList gatherActivePairs(const Domain& domain, const Model& local, const ContactList& list);
+/// A per-particle field (`components` doubles per particle, local rows) of the owned particles, on rank 0 in
+/// global order (empty elsewhere).
+std::vector<double> gatherParticleField(const Domain& domain, const Model& local, const std::vector<double>& field,
+                                        std::size_t components);
+
+} // namespace vitrum

@@ -1,0 +1,292 @@
+#!/usr/bin/env python3
+"""MPI tests of issue 27 (ctest label `mpi`): runs of `mpiexec -n P vitrum run` compared with each other and
+with the one-process run, bit for bit.
+
+    mpi_runs.py CASE --mpiexec /usr/bin/mpiexec --vitrum build/vitrum --source . [--work DIR]
+
+CASE is one of the functions named case_* below. Each run is small (seconds). A run without a launcher takes
+the one-process path, which is exactly what a build without MPI runs (solver/parallel/comm.cpp calls no MPI
+then), so "1 rank under mpiexec == the plain run" is the test of "1-rank MPI equals the non-MPI build".
+
+What "the same" means: state_sha256 and every number and string of summary.json, except the keys that
+measure this machine (wall and loop time, phase times, bond updates per second, threads, ranks, memory) and
+the composed step's text (it names halo.forward on ranks). Numbers are compared with ==: the claim is bit
+identity, so any tolerance would hide the failure it is there to catch.
+"""
+import argparse
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+# Keys that describe the machine or the decomposition, not the result.
+MACHINE_KEYS = {"wall_time_s", "loop_time_s", "bond_updates_per_s", "phases", "threads", "ranks", "peak_rss_mib",
+                "composed_step", "restarted_from", "cnem_task_s", "cnem_task_share_of_step"}
+
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_WAIT_POLICY="PASSIVE",
+           OMPI_MCA_mpi_yield_when_idle="1", OMPI_MCA_btl_vader_single_copy_mechanism="none")
+
+# The reduced scenes: each a few seconds on one rank, each over several reduction chunks (512 particles),
+# so that 2, 3 and 4 ranks all own particles.
+QUICKSTART = ("quickstart.toml", [
+    "--set", "sample.particles=2500", "--set", "sample.radius=4.0", "--set", "stage[0].speed=0.1",
+    "--set", "stage[0].until_force=0.002", "--set", "stage[1].duration=1.0", "--set", "stage[2].speed=0.1",
+    "--set", "stage[3].duration=2.0", "--set", "time.duration=100.0", "--set", "output.maps=2"])
+# The hydrostatic sphere's sample and densification, loaded through boundary conditions instead of its
+# [[load]] pressure (a convex-hull load, refused on several ranks): the bottom layer fixed, the top layer
+# pushed down 4 % of the diameter, so the densification and the boundary probes are exercised.
+SPHERE = ("hydrostatic-sphere.toml", [
+    "--set", "sample.particles=2200", "--set", "sample.radius=2.1", "--set", 'sample.file=""',
+    "--set", "load=[]", "--set", 'sets.top="top layer"', "--set", 'sets.bottom="bottom layer"',
+    "--set", 'boundary=[{set="bottom",kind="fixed"},{set="top",kind="displacement",displacement=[0.0,0.0,-0.17],'
+             'ramp_time=2.0}]',
+    "--set", 'output.reactions=["top","bottom"]', "--set", "time.duration=3.0", "--set", "output.maps=0"])
+# The 30 N smoke (tests/regression/test_vickers_30N.cpp) reduced further: fracture, contacts, the tool.
+FRACTURE = ("vickers-30N.toml", [
+    "--set", "sample.particles=3000", "--set", 'sample.file=""', "--set", "stage[0].until_force=8.0",
+    "--set", "stage[1].duration=2.0", "--set", "stage[3].duration=3.0", "--set", "output.maps=2"])
+
+
+def flatten(value, prefix=""):
+    """{path: leaf} of a JSON value, machine keys left out."""
+    out = {}
+    if isinstance(value, dict):
+        for k, v in value.items():
+            if k in MACHINE_KEYS:
+                continue
+            out.update(flatten(v, f"{prefix}.{k}" if prefix else k))
+    elif isinstance(value, list):
+        for k, v in enumerate(value):
+            out.update(flatten(v, f"{prefix}[{k}]"))
+    else:
+        out[prefix] = value
+    return out
+
+
+class Runner:
+    def __init__(self, args):
+        self.mpiexec = args.mpiexec
+        self.vitrum = os.path.abspath(args.vitrum)
+        self.examples = os.path.join(os.path.abspath(args.source), "examples")
+        self.work = args.work or tempfile.mkdtemp(prefix="vitrum-mpi-")
+        self.failures = []
+
+    def run(self, scene, args, ranks, threads, tag, expect=0, extra=(), launcher=True, timeout=600):
+        out = os.path.join(self.work, tag)
+        if "--restart" not in extra:
+            shutil.rmtree(out, ignore_errors=True)
+        cmd = [self.vitrum, "run", os.path.join(self.examples, scene), "--out", out, "--threads", str(threads),
+               "--quiet"] + list(args) + list(extra)
+        if launcher:
+            cmd = [self.mpiexec, "-n", str(ranks), "--oversubscribe", "--bind-to", "none"] + cmd
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=timeout)
+        if proc.returncode != expect:
+            raise AssertionError(f"{tag}: exit {proc.returncode}, expected {expect}\n$ {' '.join(cmd)}\n"
+                                 f"{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
+        return out, proc
+
+    def summary(self, out):
+        with open(os.path.join(out, "summary.json")) as f:
+            return json.load(f)
+
+    def same(self, what, reference, other):
+        a, b = flatten(reference), flatten(other)
+        diff = [k for k in sorted(set(a) | set(b)) if a.get(k, "<missing>") != b.get(k, "<missing>")
+                and not (isinstance(a.get(k), float) and isinstance(b.get(k), float)
+                         and math.isnan(a[k]) and math.isnan(b[k]))]
+        if diff:
+            lines = "\n".join(f"  {k}: {a.get(k, '<missing>')!r} vs {b.get(k, '<missing>')!r}" for k in diff[:20])
+            self.failures.append(f"{what}: {len(diff)} summary values differ:\n{lines}")
+        else:
+            print(f"  ok  {what}: state_sha256 {other['state_sha256'][:16]}... and {len(a)} values equal")
+
+
+def matrix(r, scene, ranks=(1, 2, 3, 4), threads=(1, 2)):
+    name, args = scene
+    serial, _ = r.run(name, args, 1, 1, "serial", launcher=False)
+    reference = r.summary(serial)
+    print(f"{name}: one process, 1 thread: state_sha256 {reference['state_sha256'][:16]}...")
+    for p in ranks:
+        for t in threads:
+            out, _ = r.run(name, args, p, t, f"p{p}t{t}")
+            s = r.summary(out)
+            if s.get("ranks") != p:
+                r.failures.append(f"{name} P={p}: summary says {s.get('ranks')} ranks")
+            r.same(f"{name} P={p} x {t} threads vs one process", reference, s)
+    return reference
+
+
+def case_matrix_quickstart(r):
+    """P = 1..4 x 1, 2 threads on the reduced quickstart: elasticity, densification, tool, Cundall damping."""
+    matrix(r, QUICKSTART)
+    # The maps: per-rank pieces, a .pvtu per snapshot, maps.pvd pointing at the .pvtu.
+    out = os.path.join(r.work, "p3t1")
+    pvd = open(os.path.join(out, "maps.pvd")).read()
+    pvtus = [f for f in os.listdir(os.path.join(out, "maps")) if f.endswith(".pvtu")]
+    pieces = [f for f in os.listdir(os.path.join(out, "maps")) if "_r" in f and f.endswith(".vtu")]
+    if not pvtus or ".pvtu" not in pvd or len(pieces) != 3 * len(pvtus):
+        r.failures.append(f"maps: {len(pvtus)} .pvtu, {len(pieces)} pieces, maps.pvd names .pvtu: {'.pvtu' in pvd}")
+
+
+def case_matrix_sphere(r):
+    """P = 1..4 x 1, 2 threads on the hydrostatic sphere's sample compressed by boundary conditions."""
+    s = matrix(r, SPHERE)
+    if not s["measurements"].get("reaction_top_N"):
+        r.failures.append("the sphere scene has no probe reaction_top_N")
+
+
+def case_matrix_fracture(r):
+    """P = 1..4 x 1, 2 threads on the reduced 30 N scene: fracture, contacts, the tool."""
+    s = matrix(r, FRACTURE)
+    m = s["measurements"]
+    if not m.get("released_particles") or m.get("contact_list_builds", 0) < 2:
+        r.failures.append(f"the fracture scene released {m.get('released_particles')} particles and built its "
+                          f"contact list {m.get('contact_list_builds')} times: it does not exercise fracture and contacts")
+
+
+def partition_cuts(weights, ranks, align=512):
+    """solver/parallel/partition.cpp partitionByWeight, in Python."""
+    prefix = [0.0]
+    for w in weights:
+        prefix.append(prefix[-1] + w)
+    n, total = len(weights), prefix[-1]
+    import bisect
+    cuts = [0] + [n] * ranks
+    for r in range(1, ranks):
+        at = bisect.bisect_left(prefix, total * r / ranks)
+        cut = min((at + align // 2) // align * align, n)
+        cuts[r] = max(cut, cuts[r - 1])
+    return cuts
+
+
+def case_cut_bonds_and_fragments(r):
+    """On 2 ranks: bonds cut by the partition break (the same bonds at the same step as on one process), and
+    released particles touch particles of the other rank that they did not start next to (a fragment's
+    contact across ranks through the spatial halo); the final states are equal to one process's."""
+    import h5py
+    name, args = FRACTURE
+    serial, _ = r.run(name, args, 1, 1, "serial", launcher=False)
+    two, _ = r.run(name, args, 2, 1, "p2t1")
+    r.same(f"{name} P=2 vs one process", r.summary(serial), r.summary(two))
+    with h5py.File(os.path.join(serial, "state.h5")) as a, h5py.File(os.path.join(two, "state.h5")) as b:
+        for group, field in (("bonds", "broken"), ("particles", "release_step"), ("particles", "position")):
+            if not (a[group][field][()] == b[group][field][()]).all():
+                r.failures.append(f"state.h5 /{group}/{field} differs between 1 and 2 ranks")
+        i, j = b["bonds"]["i"][()].ravel(), b["bonds"]["j"][()].ravel()
+        broken = b["bonds"]["broken"][()].ravel()
+        n = len(b["particles"]["radius"][()])
+        degree = [0] * n
+        for k in range(len(i)):
+            degree[i[k]] += 1
+            degree[j[k]] += 1
+        cuts = partition_cuts([1.0 + 0.25 * d for d in degree], 2)
+        owner = lambda q: 0 if q < cuts[1] else 1
+        cut_broken = sum(1 for k in range(len(i)) if broken[k] and owner(i[k]) != owner(j[k]))
+        print(f"  cut points {cuts}: {int(broken.sum())} broken bonds, {cut_broken} of them cut by the partition")
+        if cut_broken == 0:
+            r.failures.append("no bond cut by the partition broke: the test does not test it")
+        released = b["particles"]["released"][()].ravel()
+        x = b["particles"]["position"][()].reshape(-1, 3)
+        x0 = b["particles"]["initial_position"][()].reshape(-1, 3)
+        rad = b["particles"]["radius"][()].ravel()
+        bonded = set(zip(i.tolist(), j.tolist()))
+        crossings = 0
+        for p in [q for q in range(n) if released[q]]:
+            for q in range(n):
+                if q == p or owner(q) == owner(p):
+                    continue
+                touch = (rad[p] + rad[q]) ** 2
+                now = sum((x[p][c] - x[q][c]) ** 2 for c in range(3))
+                then = sum((x0[p][c] - x0[q][c]) ** 2 for c in range(3))
+                if now < touch and then >= 1.2 * touch and (min(p, q), max(p, q)) not in bonded:
+                    crossings += 1
+        print(f"  {int(released.sum())} released particles; {crossings} new contacts across the rank boundary")
+        if crossings == 0:
+            r.failures.append("no released particle came into contact with a particle of the other rank")
+
+
+def case_restart_across_ranks(r):
+    """Stopped on 2 ranks with --stop-after, restarted on 3: the uninterrupted run's state and summary."""
+    name, args = FRACTURE
+    whole, _ = r.run(name, args, 2, 1, "whole")
+    out, _ = r.run(name, args, 2, 1, "stopped", extra=["--stop-after", "700"])
+    r.run(name, args, 3, 1, "stopped", extra=["--restart", os.path.join(out, "state.h5")])
+    r.same(f"{name} 2 ranks stopped at 700 steps, restarted on 3, vs uninterrupted", r.summary(whole), r.summary(out))
+    a = open(os.path.join(whole, "series.csv")).read()
+    b = open(os.path.join(out, "series.csv")).read()
+    if a != b:
+        r.failures.append("series.csv of the restarted run differs from the uninterrupted one")
+
+
+def case_empty_ranks(r):
+    """More ranks than reduction chunks: 4 ranks on 1 200 particles (3 chunks of 512), one rank owns no
+    particle; and 3 ranks on 400 particles (1 chunk), two own none. Both equal one process."""
+    name, args = QUICKSTART
+    small = [a for a in args]
+    for particles, radius, ranks in ((1200, 3.2, 4), (400, 2.2, 3)):
+        a = small + ["--set", f"sample.particles={particles}", "--set", f"sample.radius={radius}"]
+        serial, _ = r.run(name, a, 1, 1, f"serial{particles}", launcher=False)
+        out, proc = r.run(name, a, ranks, 1, f"empty{particles}", extra=["--quiet"])
+        r.same(f"{name} {particles} particles on {ranks} ranks vs one process", r.summary(serial), r.summary(out))
+
+
+def case_faults(r):
+    """Failures end every rank with one message and the right exit code, never a hang."""
+    name, args = QUICKSTART
+    scene = os.path.join(r.examples, name)
+    # Bad input on every rank: one message, exit 2.
+    _, proc = r.run(name, args + ["--set", "sample.particles=-3"], 2, 1, "bad", expect=2, timeout=120)
+    if proc.stderr.count("error:") != 1:
+        r.failures.append(f"bad input on 2 ranks printed {proc.stderr.count('error:')} errors:\n{proc.stderr}")
+    # Effects that cannot run on several ranks are refused, naming the effect.
+    _, proc = r.run("vickers-0.1N-coupled.toml", ["--set", 'sample.file=""'], 2, 1, "coupled", expect=2, timeout=120)
+    if "coupling" not in proc.stderr:
+        r.failures.append(f"coupling on 2 ranks: {proc.stderr}")
+    # Different scenes on the ranks (MPMD): refused at the start.
+    out = os.path.join(r.work, "mismatch")
+    cmd = [r.mpiexec, "--oversubscribe", "-n", "1", r.vitrum, "run", scene, "--out", out, "--quiet"] + args + \
+          [":", "-n", "1", r.vitrum, "run", scene, "--out", out, "--quiet"] + args + ["--set", "seed=2"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=120)
+    if proc.returncode != 2 or "disagree" not in proc.stderr:
+        r.failures.append(f"mismatched scenes: exit {proc.returncode}\n{proc.stderr[-2000:]}")
+    # One rank fails alone inside the loop (its map piece cannot be written): every rank ends, exit 1, no hang.
+    out = os.path.join(r.work, "lone")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(os.path.join(out, "maps", "particles_00000000_r1.vtu", "blocked"))
+    cmd = [r.mpiexec, "--oversubscribe", "-n", "2", r.vitrum, "run", scene, "--out", out, "--quiet"] + args
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=120)
+    if proc.returncode != 1 or "rank 1 of 2" not in proc.stderr:
+        r.failures.append(f"a lone failure on rank 1: exit {proc.returncode}\n{proc.stderr[-2000:]}")
+    # The watchdog on several ranks: exit 1, the rank and the global particle named, the report written.
+    _, proc = r.run(name, args + ["--set", "time.safety_ratio=3.0"], 2, 1, "unstable", expect=1, timeout=120)
+    if "numerical instability" not in proc.stderr or "owns particle" not in proc.stderr:
+        r.failures.append(f"the watchdog on 2 ranks:\n{proc.stderr[-2000:]}")
+
+
+def main():
+    cases = {k[len("case_"):]: v for k, v in globals().items() if k.startswith("case_")}
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("case", choices=sorted(cases))
+    parser.add_argument("--mpiexec", required=True)
+    parser.add_argument("--vitrum", required=True)
+    parser.add_argument("--source", required=True)
+    parser.add_argument("--work")
+    args = parser.parse_args()
+    r = Runner(args)
+    try:
+        cases[args.case](r)
+    except AssertionError as e:
+        r.failures.append(str(e))
+    if r.failures:
+        print("FAILED:\n" + "\n".join(r.failures))
+        return 1
+    if not args.work:
+        shutil.rmtree(r.work, ignore_errors=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
