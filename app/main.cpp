@@ -67,11 +67,11 @@ std::string rankTag() {
 
 /// The process's exit with `code`. On several ranks a failure this rank met alone (`failed`, its message
 /// printed) ends every rank through MPI_Abort with its code, so that none waits forever in a collective; a
-/// failure the ranks agreed on (PeerFailure, or this rank's own rethrown by solver/parallel agreed) and a
-/// normal end finalise. A one-rank MPI run and a run without MPI just return.
+/// failure the ranks agreed on (PeerFailure, or this rank's own rethrown by solver/parallel agreed or
+/// throwTogether) and a normal end finalise.
 int endRanks(int code, bool failed) {
     vitrum::Comm& comm = vitrum::Comm::world();
-    if (failed && comm.size() > 1) {
+    if (failed && comm.size() > 1 && !comm.failureAgreed()) {
         std::cerr.flush();
         comm.abort(code);
     }

@@ -167,6 +167,7 @@ std::string rankLine(Domain& domain, const Model& local) {
 
 void throwTogether(Comm& comm, const std::exception_ptr& error) {
     if (comm.size() == 1 || comm.rank() == 0) {
+        comm.noteAgreedFailure();
         std::rethrow_exception(error);
     }
     throw PeerFailure{exitCodeOf(error), 0};

@@ -237,7 +237,10 @@ LoopEnd timeLoop(Loop& l, long first) {
             end.seconds = -1.0; // stopped: no summary
             return end;
         }
-        if (const int signal = stopSignal(l.comm); signal != 0) {
+        // On several ranks the signal is agreed every kSignalEvery steps (a collective; every rank checks at the
+        // same steps), so that all stop at one step.
+        constexpr long kSignalEvery = 16;
+        if (const int signal = l.comm.size() == 1 || n % kSignalEvery == 0 ? stopSignal(l.comm) : 0; signal != 0) {
             checkpoint(n);
             if (l.series) l.series->flush();
             throwTogether(l.comm, std::make_exception_ptr(RuntimeFailure(

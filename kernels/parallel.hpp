@@ -287,6 +287,8 @@ class ReduceExchange {
 public:
     virtual ~ReduceExchange() = default;
     virtual std::vector<std::byte> allGather(std::span<const std::byte> mine) const = 0;
+    /// The same when every process passes the same number of bytes (one collective instead of two).
+    virtual std::vector<std::byte> allGatherEqual(std::span<const std::byte> mine) const = 0;
 };
 
 /// Where a reduction's local indices sit in a global index space: local chunk c is global chunk
@@ -313,17 +315,33 @@ T combinePartials(std::vector<T> partials, const T& zero, const ReduceSpan& span
     static_assert(std::is_trivially_destructible_v<T> && std::is_standard_layout_v<T>,
                   "a distributed reduction's value travels as bytes");
     const auto local = treeNodes(span.first_chunk, std::move(partials), span.total_chunks);
+    // Every process sends the same number of bytes (its node count, then room for the most nodes a range can
+    // have: two per level), so one fixed-size all-gather does.
     constexpr std::size_t kRecord = sizeof(TreeNode) + sizeof(T);
-    std::vector<std::byte> bytes(local.size() * kRecord);
+    std::size_t levels = 1;
+    while ((std::size_t{1} << (levels - 1)) < span.total_chunks) ++levels;
+    const std::size_t room = 2 * levels + 1;
+    const std::size_t block = sizeof(std::uint64_t) + room * kRecord;
+    std::vector<std::byte> bytes(block);
+    const std::uint64_t count = local.size();
+    std::memcpy(bytes.data(), &count, sizeof count);
     for (std::size_t r = 0; r < local.size(); ++r) {
-        std::memcpy(bytes.data() + r * kRecord, &local[r].first, sizeof(TreeNode));
-        std::memcpy(bytes.data() + r * kRecord + sizeof(TreeNode), static_cast<const void*>(&local[r].second), sizeof(T));
+        std::byte* at = bytes.data() + sizeof count + r * kRecord;
+        std::memcpy(at, &local[r].first, sizeof(TreeNode));
+        std::memcpy(at + sizeof(TreeNode), static_cast<const void*>(&local[r].second), sizeof(T));
     }
-    const std::vector<std::byte> all = span.exchange->allGather(bytes);
-    std::vector<std::pair<TreeNode, T>> nodes(all.size() / kRecord);
-    for (std::size_t r = 0; r < nodes.size(); ++r) {
-        std::memcpy(&nodes[r].first, all.data() + r * kRecord, sizeof(TreeNode));
-        std::memcpy(static_cast<void*>(&nodes[r].second), all.data() + r * kRecord + sizeof(TreeNode), sizeof(T));
+    const std::vector<std::byte> all = span.exchange->allGatherEqual(bytes);
+    std::vector<std::pair<TreeNode, T>> nodes;
+    for (std::size_t p = 0; p + block <= all.size(); p += block) {
+        std::uint64_t n = 0;
+        std::memcpy(&n, all.data() + p, sizeof n);
+        for (std::size_t r = 0; r < n; ++r) {
+            const std::byte* at = all.data() + p + sizeof n + r * kRecord;
+            std::pair<TreeNode, T> node;
+            std::memcpy(&node.first, at, sizeof(TreeNode));
+            std::memcpy(static_cast<void*>(&node.second), at + sizeof(TreeNode), sizeof(T));
+            nodes.push_back(node);
+        }
     }
     return treeRoot(nodes, span.total_chunks, zero);
 }

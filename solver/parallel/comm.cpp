@@ -110,6 +110,20 @@ std::vector<std::byte> Comm::allGather(std::span<const std::byte> mine) const {
 #endif
 }
 
+std::vector<std::byte> Comm::allGatherEqual(std::span<const std::byte> mine) const {
+    if (!active_) {
+        return {mine.begin(), mine.end()};
+    }
+#ifdef VITRUM_HAVE_MPI
+    const int count = byteCount(mine.size());
+    std::vector<std::byte> all(mine.size() * static_cast<std::size_t>(size_));
+    check(MPI_Allgather(mine.data(), count, MPI_BYTE, all.data(), count, MPI_BYTE, MPI_COMM_WORLD), "MPI_Allgather");
+    return all;
+#else
+    return {};
+#endif
+}
+
 std::vector<std::byte> Comm::gather(std::span<const std::byte> mine, int root) const {
     (void)root;
     if (!active_) {

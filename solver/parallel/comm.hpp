@@ -36,6 +36,7 @@ public:
 
     /// Every rank's bytes concatenated in rank order (collective).
     std::vector<std::byte> allGather(std::span<const std::byte> mine) const override;
+    std::vector<std::byte> allGatherEqual(std::span<const std::byte> mine) const override;
     /// Every rank's bytes concatenated in rank order on `root`, empty elsewhere (collective).
     std::vector<std::byte> gather(std::span<const std::byte> mine, int root = 0) const;
     /// `bytes` of `root` on every rank (collective; the size travels too).
@@ -57,6 +58,10 @@ public:
     [[noreturn]] void abort(int code) const;
     /// MPI_Finalize (idempotent); call once before a normal exit.
     void finalize();
+    /// Marks this rank's failure as one every rank knows of (agreed, throwTogether): it may finalize instead
+    /// of aborting the others, which are ending too.
+    void noteAgreedFailure() { agreed_failure_ = true; }
+    bool failureAgreed() const { return agreed_failure_; }
 
     Comm(const Comm&) = delete;
     Comm& operator=(const Comm&) = delete;
@@ -67,6 +72,7 @@ private:
     int rank_ = 0;
     int size_ = 1;
     bool active_ = false;
+    bool agreed_failure_ = false;
 };
 
 /// Thrown on the ranks that did not fail when another did (agreed): ends them quietly with the exit code of the
@@ -101,6 +107,7 @@ void agreed(Comm& comm, Body&& body) {
     }
     const long long code = comm.maxOf(error && failing == comm.rank() ? static_cast<long long>(exitCodeOf(error)) : 0LL);
     if (failing == comm.rank()) {
+        comm.noteAgreedFailure();
         std::rethrow_exception(error);
     }
     throw PeerFailure{static_cast<int>(code), static_cast<int>(failing)};

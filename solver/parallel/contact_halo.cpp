@@ -173,16 +173,17 @@ bool updateRankedContacts(Domain& d, Model& m, Effects& fx) {
     Comm& comm = *d.comm;
     const Particles& p = m.particles;
     const std::size_t owned = ownedCount(m);
-    long long rebuild = list.stale || list.reference_position.size() != 3 * owned ? 1 : 0;
+    // The largest displacement is exact in any order: every rank rebuilds at the same step as one process (a
+    // stale list counts as an infinite one; one collective).
     double moved = 0.0;
-    if (!rebuild) {
+    if (list.stale || list.reference_position.size() != 3 * owned) {
+        moved = std::numeric_limits<double>::infinity();
+    } else {
         for (std::size_t q = 0; q < owned; ++q) {
             moved = std::max(moved, (load3(p.position.data(), q) - load3(list.reference_position.data(), q)).squaredNorm());
         }
     }
-    // The largest displacement is exact in any order: every rank rebuilds at the same step as one process.
-    rebuild = comm.maxOf(rebuild);
-    if (!rebuild && !(comm.maxOf(moved) > 0.25 * list.skin * list.skin)) {
+    if (comm.maxOf(moved) <= 0.25 * list.skin * list.skin) { // as ContactList::update (NaN: rebuild)
         return false;
     }
     buildRankedContacts(d, m, fx);
