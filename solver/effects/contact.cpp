@@ -122,10 +122,19 @@ void ContactList::build(const Particles& p, const Bonds& bonds, const Incidence&
 bool ContactList::update(const Particles& p, const Bonds& bonds, const Incidence& incidence) {
     if (!stale && reference_position.size() == p.position.size()) {
         const double limit = 0.25 * skin * skin; // (skin/2)²
-        const double moved = parallelReduce("contacts.check", p.size(), 0.0, [&](std::size_t q, double& acc) {
+        // The largest squared displacement: chunk maxima combined by max (a double's += would sum them, which
+        // rebuilt the list more often than needed; issue 27 found it, as the ranks' all-reduce takes the max).
+        struct Largest {
+            double value = 0.0;
+            Largest& operator+=(const Largest& o) {
+                value = std::max(value, o.value);
+                return *this;
+            }
+        };
+        const double moved = parallelReduce("contacts.check", p.size(), Largest{}, [&](std::size_t q, Largest& acc) {
             const double d2 = (load3(p.position.data(), q) - load3(reference_position.data(), q)).squaredNorm();
-            acc = std::max(acc, d2);
-        });
+            acc.value = std::max(acc.value, d2);
+        }).value;
         if (moved <= limit) {
             return false;
         }

@@ -24,7 +24,8 @@ import tempfile
 
 # Keys that describe the machine or the decomposition, not the result.
 MACHINE_KEYS = {"wall_time_s", "loop_time_s", "bond_updates_per_s", "phases", "threads", "ranks", "peak_rss_mib",
-                "composed_step", "restarted_from", "cnem_task_s", "cnem_task_share_of_step"}
+                "composed_step", "restarted_from", "cnem_task_s", "cnem_task_share_of_step", "seconds",
+                "sample_origin"}
 
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMP_WAIT_POLICY="PASSIVE",
            OMPI_MCA_mpi_yield_when_idle="1", OMPI_MCA_btl_vader_single_copy_mechanism="none")
@@ -32,22 +33,23 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 # The reduced scenes: each a few seconds on one rank, each over several reduction chunks (512 particles),
 # so that 2, 3 and 4 ranks all own particles.
 QUICKSTART = ("quickstart.toml", [
-    "--set", "sample.particles=2500", "--set", "sample.radius=4.0", "--set", "stage[0].speed=0.1",
+    "--set", 'sample.file="@WORK@/quickstart.h5"', "--set", "sample.particles=2500", "--set", "sample.radius=4.0", "--set", "stage[0].speed=0.1",
     "--set", "stage[0].until_force=0.002", "--set", "stage[1].duration=1.0", "--set", "stage[2].speed=0.1",
     "--set", "stage[3].duration=2.0", "--set", "time.duration=100.0", "--set", "output.maps=2"])
 # The hydrostatic sphere's sample and densification, loaded through boundary conditions instead of its
 # [[load]] pressure (a convex-hull load, refused on several ranks): the bottom layer fixed, the top layer
 # pushed down 4 % of the diameter, so the densification and the boundary probes are exercised.
 SPHERE = ("hydrostatic-sphere.toml", [
-    "--set", "sample.particles=2200", "--set", "sample.radius=2.1", "--set", 'sample.file=""',
+    "--set", "sample.particles=2200", "--set", "sample.radius=2.1", "--set", 'sample.file="@WORK@/sphere.h5"',
     "--set", "load=[]", "--set", 'sets.top="top layer"', "--set", 'sets.bottom="bottom layer"',
     "--set", 'boundary=[{set="bottom",kind="fixed"},{set="top",kind="displacement",displacement=[0.0,0.0,-0.17],'
              'ramp_time=2.0}]',
     "--set", 'output.reactions=["top","bottom"]', "--set", "time.duration=3.0", "--set", "output.maps=0"])
 # The 30 N smoke (tests/regression/test_vickers_30N.cpp) reduced further: fracture, contacts, the tool.
 FRACTURE = ("vickers-30N.toml", [
-    "--set", "sample.particles=3000", "--set", 'sample.file=""', "--set", "stage[0].until_force=8.0",
-    "--set", "stage[1].duration=2.0", "--set", "stage[3].duration=3.0", "--set", "output.maps=2"])
+    "--set", "sample.particles=2000", "--set", 'sample.file="@WORK@/hemisphere.h5"', "--set", "stage[0].speed=0.2",
+    "--set", "stage[0].until_force=8.0", "--set", "stage[1].duration=2.0", "--set", "stage[2].speed=0.2",
+    "--set", "stage[3].duration=3.0", "--set", "output.maps=2"])
 
 
 def flatten(value, prefix=""):
@@ -76,6 +78,9 @@ class Runner:
 
     def run(self, scene, args, ranks, threads, tag, expect=0, extra=(), launcher=True, timeout=600):
         out = os.path.join(self.work, tag)
+        # The packing is cached in the work directory (rank 0 writes it, the other ranks read it): the first run
+        # packs, the others load it.
+        args = [a.replace("@WORK@", self.work) for a in args]
         if "--restart" not in extra:
             shutil.rmtree(out, ignore_errors=True)
         cmd = [self.vitrum, "run", os.path.join(self.examples, scene), "--out", out, "--threads", str(threads),
@@ -250,7 +255,8 @@ def case_empty_ranks(r):
     name, args = QUICKSTART
     small = [a for a in args]
     for particles, radius, ranks in ((1200, 3.2, 4), (400, 2.2, 3)):
-        a = small + ["--set", f"sample.particles={particles}", "--set", f"sample.radius={radius}"]
+        a = small + ["--set", f"sample.particles={particles}", "--set", f"sample.radius={radius}",
+                     "--set", f'sample.file="@WORK@/quickstart-{particles}.h5"']
         serial, _ = r.run(name, a, 1, 1, f"serial{particles}", launcher=False)
         out, proc = r.run(name, a, ranks, 1, f"empty{particles}", extra=["--quiet"])
         r.same(f"{name} {particles} particles on {ranks} ranks vs one process", r.summary(serial), r.summary(out))
