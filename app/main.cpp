@@ -59,10 +59,13 @@ void warnAboutThreads(int threads) {
     }
 }
 
-/// "rank r of P: " on a run over several MPI ranks (the rank that says it), else nothing.
+/// "rank r of P: " for a failure one rank of several met alone, else nothing (a failure every rank agreed on is
+/// the run's, said once).
 std::string rankTag() {
     const vitrum::Comm& comm = vitrum::Comm::world();
-    return comm.size() > 1 ? "rank " + std::to_string(comm.rank()) + " of " + std::to_string(comm.size()) + ": " : "";
+    return comm.size() > 1 && !comm.failureAgreed()
+               ? "rank " + std::to_string(comm.rank()) + " of " + std::to_string(comm.size()) + ": "
+               : "";
 }
 
 /// The process's exit with `code`. On several ranks a failure this rank met alone (`failed`, its message
