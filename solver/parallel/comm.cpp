@@ -151,6 +151,32 @@ std::vector<std::byte> Comm::gather(std::span<const std::byte> mine, int root) c
 #endif
 }
 
+void Comm::gatherEach(std::span<const std::byte> mine,
+                      const std::function<void(int, std::span<const std::byte>)>& take) const {
+    if (!active_ || size_ == 1) {
+        take(0, mine);
+        return;
+    }
+#ifdef VITRUM_HAVE_MPI
+    if (rank_ != 0) {
+        long long size = static_cast<long long>(mine.size());
+        check(MPI_Send(&size, 1, MPI_LONG_LONG, 0, 28, MPI_COMM_WORLD), "MPI_Send");
+        check(MPI_Send(mine.data(), byteCount(mine.size()), MPI_BYTE, 0, 29, MPI_COMM_WORLD), "MPI_Send");
+        return;
+    }
+    take(0, mine);
+    std::vector<std::byte> buffer;
+    for (int r = 1; r < size_; ++r) {
+        long long size = 0;
+        check(MPI_Recv(&size, 1, MPI_LONG_LONG, r, 28, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Recv");
+        buffer.resize(static_cast<std::size_t>(size));
+        check(MPI_Recv(buffer.data(), byteCount(buffer.size()), MPI_BYTE, r, 29, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+              "MPI_Recv");
+        take(r, buffer);
+    }
+#endif
+}
+
 void Comm::broadcast(std::vector<std::byte>& bytes, int root) const {
     (void)bytes;
     (void)root;

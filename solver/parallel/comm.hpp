@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 #include <exception>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -39,6 +40,10 @@ public:
     std::vector<std::byte> allGatherEqual(std::span<const std::byte> mine) const override;
     /// Every rank's bytes concatenated in rank order on `root`, empty elsewhere (collective).
     std::vector<std::byte> gather(std::span<const std::byte> mine, int root = 0) const;
+    /// Every rank's bytes handed to `take(rank, bytes)` on rank 0, one rank after the other in rank order
+    /// (collective): rank 0 holds one rank's bytes at a time, not all of them.
+    void gatherEach(std::span<const std::byte> mine,
+                    const std::function<void(int, std::span<const std::byte>)>& take) const;
     /// `bytes` of `root` on every rank (collective; the size travels too).
     void broadcast(std::vector<std::byte>& bytes, int root = 0) const;
     /// Sends send[k] to peers[k] and receives recv[k] from peers[k] (sizes known on both sides; collective

@@ -342,17 +342,27 @@ void gatherStores(const Domain& d, const Model& local, Particles& particles, Bon
         owned.j[k] = static_cast<std::int32_t>(part.global_id[static_cast<std::size_t>(owned.j[k])]);
     }
     rows::packRows(owned, 0, owned.size(), mine);
-    const std::vector<std::byte> all = d.comm->gather(mine, 0);
+    owned = Bonds{};
     particles = Particles{};
     bonds = Bonds{};
+    // Each rank's record: its particle fields, then its bond fields, appended rank by rank (global order);
+    // rank 0 holds the whole stores and one rank's record at a time.
+    auto reserve = [](auto& store, std::size_t rows) {
+        forEachField(store, [&](const Field& f, auto& member) {
+            if (!member.empty()) member.reserve(rows * static_cast<std::size_t>(f.components));
+        });
+    };
+    d.comm->gatherEach(mine, [&](int rank, std::span<const std::byte> record) {
+        const std::byte* at = rows::unpackRows(particles, record.data());
+        rows::unpackRows(bonds, at);
+        if (rank == 0) { // the fields present are known now: room for the whole sample at once
+            reserve(particles, part.global_particles);
+            reserve(bonds, part.global_bonds);
+        }
+    });
     if (d.comm->rank() != 0) {
-        return;
-    }
-    // Each rank's record: its particle fields, then its bond fields; the ranks in order are global order.
-    const std::byte* at = all.data();
-    for (int r = 0; r < d.comm->size(); ++r) {
-        at = rows::unpackRows(particles, at);
-        at = rows::unpackRows(bonds, at);
+        particles = Particles{};
+        bonds = Bonds{};
     }
 }
 
