@@ -352,6 +352,17 @@ def case_faults(r):
     proc = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=120)
     if proc.returncode != 2 or "disagree" not in proc.stderr:
         r.failures.append(f"mismatched scenes: exit {proc.returncode}\n{proc.stderr[-2000:]}")
+    # Another build on one rank (the same binary with one byte appended: it runs, its SHA-256 differs).
+    other = os.path.join(r.work, "vitrum-other")
+    shutil.copyfile(r.vitrum, other)
+    with open(other, "ab") as f:
+        f.write(b"x")
+    os.chmod(other, 0o755)
+    cmd = [r.mpiexec, "--oversubscribe", "-n", "1", r.vitrum, "run", scene, "--out", out, "--quiet"] + args + \
+          [":", "-n", "1", other, "run", scene, "--out", out, "--quiet"] + args
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=120)
+    if proc.returncode != 2 or "another vitrum executable" not in proc.stderr:
+        r.failures.append(f"mismatched binaries: exit {proc.returncode}\n{proc.stderr[-2000:]}")
     # One rank fails alone inside the loop (its map piece cannot be written): every rank ends, exit 1, no hang.
     out = os.path.join(r.work, "lone")
     shutil.rmtree(out, ignore_errors=True)
