@@ -75,6 +75,7 @@ class Runner:
         self.vitrum = os.path.abspath(args.vitrum)
         self.examples = os.path.join(os.path.abspath(args.source), "examples")
         self.work = args.work or tempfile.mkdtemp(prefix="vitrum-mpi-")
+        os.makedirs(self.work, exist_ok=True)
         self.failures = []
 
     def run(self, scene, args, ranks, threads, tag, expect=0, extra=(), launcher=True, timeout=600):
