@@ -16,21 +16,6 @@ using Mat3 = Eigen::Matrix3d;
 
 bool intact(const RestStateView& b, std::int32_t bond) { return !b.broken || !b.broken[bond]; }
 
-Mat3 loadMat(const double* a, std::size_t p) {
-    Mat3 m;
-    for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-            m(r, c) = a[9 * p + 3 * r + c];
-        }
-    }
-    return m;
-}
-
-bool exists(const double* a, std::size_t p) {
-    // deformationGradients writes zeros where F does not exist; an existing F has det F > 0, so a non-zero row.
-    return a[9 * p] != 0.0 || a[9 * p + 1] != 0.0 || a[9 * p + 2] != 0.0;
-}
-
 /// The 6 components (xx yy zz xy yz xz) of a symmetric matrix, and back.
 void toVoigt(const Mat3& m, double* v) {
     v[0] = m(0, 0);
@@ -48,9 +33,9 @@ Mat3 fromVoigt(const double* v) {
 
 } // namespace
 
-void deformationGradients(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
-                          const double* current, double* deformation) {
-    parallelFor("plasticity.deformation", inc.n, [&](std::size_t p) {
+void strainMoments(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
+                   const double* current, double* moments) {
+    parallelFor("plasticity.moments", inc.n, [&](std::size_t p) {
         Mat3 a = Mat3::Zero();
         Mat3 b = Mat3::Zero();
         for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
@@ -64,44 +49,72 @@ void deformationGradients(const IncidenceView& inc, const RestStateView& bonds, 
             a += dX * dX.transpose();
             b += dx * dX.transpose();
         }
-        // A well-spread neighbourhood has det(a) ≈ (tr a / 3)³; below 1e-6 of tr³ it is (nearly) coplanar.
-        const double scale = a.trace();
-        const bool spans = a.determinant() > 1e-6 * scale * scale * scale;
-        const Mat3 f = spans ? Mat3(b * a.inverse()) : Mat3::Zero();
+        double* m = moments + 15 * p;
+        toVoigt(a, m);
         for (int r = 0; r < 3; ++r) {
             for (int c = 0; c < 3; ++c) {
-                deformation[9 * p + 3 * r + c] = f(r, c);
+                m[6 + 3 * r + c] = b(r, c);
             }
         }
     });
 }
 
-PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const IncidenceView& inc, const RestStateView& bonds,
-                                  const double* radius, PlasticStateView s) {
-    const double* F = s.deformation;
-    return parallelReduce("plasticity.return", inc.n, PlasticReturnTotals{}, [&](std::size_t p,
+void poolMoments(const IncidenceView& inc, const RestStateView& bonds, const double* in, double* out) {
+    parallelFor("plasticity.pool", inc.n, [&](std::size_t p) {
+        double sum[15];
+        for (int c = 0; c < 15; ++c) {
+            sum[c] = in[15 * p + c];
+        }
+        for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) { // in incidence order: deterministic
+            const std::int32_t bond = inc.entry[k] >> 1;
+            if (!intact(bonds, bond)) {
+                continue;
+            }
+            const std::size_t other = static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
+            for (int c = 0; c < 15; ++c) {
+                sum[c] += in[15 * other + c];
+            }
+        }
+        for (int c = 0; c < 15; ++c) {
+            out[15 * p + c] = sum[c];
+        }
+    });
+}
+
+bool deformationFromMoments(const double* moments, std::size_t p, double* f) {
+    const double* m = moments + 15 * p;
+    const Mat3 a = fromVoigt(m);
+    const double scale = a.trace();
+    if (!(a.determinant() > 1e-6 * scale * scale * scale)) {
+        return false;
+    }
+    Mat3 b;
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+            b(r, c) = m[6 + 3 * r + c];
+        }
+    }
+    const Mat3 g = b * a.inverse();
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+            f[3 * r + c] = g(r, c);
+        }
+    }
+    return true;
+}
+
+PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radius, PlasticStateView s) {
+    return parallelReduce("plasticity.return", s.n, PlasticReturnTotals{}, [&](std::size_t p,
                                                                                   PlasticReturnTotals& acc) {
         s.yielded[p] = 0;
         for (int k = 0; k < 6; ++k) {
             s.increment[6 * p + k] = 0.0;
         }
-        if (!exists(F, p)) {
+        double g[9];
+        if (!deformationFromMoments(s.moments, p, g)) {
             return;
         }
-        Mat3 f = loadMat(F, p); // (P2): the particle's, plus its intact neighbours' where they exist
-        if (law.averaging) {
-            int count = 1;
-            for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
-                const std::int32_t bond = inc.entry[k] >> 1;
-                const std::size_t other =
-                    static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
-                if (intact(bonds, bond) && exists(F, other)) {
-                    f += loadMat(F, other);
-                    ++count;
-                }
-            }
-            f /= static_cast<double>(count);
-        }
+        const Mat3 f = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g); // (P2)
         const Mat3 green = 0.5 * (f.transpose() * f - Mat3::Identity()); // (P3)
         double elastic[6];
         toVoigt(green, elastic);

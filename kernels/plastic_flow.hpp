@@ -8,8 +8,9 @@
 // after averaging, CHANGELOG "Issue 26"). A return driven by that stress compacts them without end. The
 // strain-driven return below has no such loop: each particle carries its plastic strain E^p, and the stress
 // it judges is the elastic law of the strain its neighbourhood has,
-//   F_i = (Σ_b Δx_b ΔX_bᵀ)(Σ_b ΔX_b ΔX_bᵀ)⁻¹ over the intact bonds b of i                                   (P1)
-//   F̄_i = the mean of F over i and its intact bonded neighbours (averaging = neighbours), else F_i          (P2)
+//   A_i = Σ_b ΔX_b ΔX_bᵀ,  B_i = Σ_b Δx_b ΔX_bᵀ over the intact bonds b of i (initial, current chords)        (P1)
+//   pooled over k rings of intact bonded neighbours: A ← A_i + Σ_j A_j, B likewise, k times (k = 0, 1, 2)
+//   F̄_i = B A⁻¹: the least-squares gradient of the pooled bonds                                             (P2)
 //   E_i = ½ (F̄ᵀ F̄ − I)                         Green–Lagrange strain, initial frame                       (P3)
 //   S_tr = λ tr(E − E^p) I + 2 G (E − E^p),   λ = K − 2G/3                                                   (P4)
 // the cap's return of S_tr (kernels/cap_plasticity.hpp R1–R2) gives ΔE^p and the new (e, γ̄); E^p += ΔE^p.
@@ -21,11 +22,18 @@
 //   Δε_i = F̄⁻ᵀ ΔE^p F̄⁻¹                                                                                     (P5)
 // and every intact bond with a yielding end gets Δε_b = ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2).
 //
+// Why pooled moments and not the mean of the neighbours' F: a hull particle's own bonds all point inwards and
+// carry the traction, so its own F is one-sided and noisy (3-bond particles: exactly determined); the mean of
+// F gives it a weight 1/(1 + neighbours) whatever its bond count. Pooling weights every bond alike. Measured on
+// the 2 000-particle sphere at 3 GPa (elastic): the equivalent deviatoric strain of the 440 hull particles has
+// its 95th percentile at 0.096 (mean of F), 0.026 (one ring), 0.016 (two rings), and silica's shear limit is
+// at 0.081; the one-particle runaway of a mean-of-F return started there (CHANGELOG, issue 26).
+//
 // Units: strains dimensionless, K, G and stresses GPa, lengths µm; the dissipation Ω σ:ΔE^p in GPa·µm³ = nJ.
 // Validity: small elastic strains (the linear law P4 on E − E^p; the cap law's own note); the additive split
 // of Green–Lagrange strains is exact to first order in E^p (|E^p| ≲ 0.07 at silica's saturation); a
 // particle with fewer than three non-coplanar intact bonds has no strain (it stays elastic and its bonds are
-// not moved by its own increment). Deterministic: every pass is per particle or per bond, and the totals
+// not moved by its own increment). Every affine field is reproduced exactly by any pooling depth. Deterministic: every pass is per particle or per bond, and the totals
 // are chunked sums (kernels/parallel.hpp).
 #pragma once
 
@@ -44,7 +52,7 @@ struct PlasticStateView {
     double* compaction = nullptr;     ///< n, e
     double* plastic_shear = nullptr;  ///< n, γ̄
     double* plastic_work = nullptr;   ///< n, Σ S:ΔE^p, GPa
-    double* deformation = nullptr;    ///< 9n work: F_i (P1), row-major; 0 where it does not exist
+    const double* moments = nullptr;  ///< 15n: the pooled A (6: xx yy zz xy yz xz) and B (9, row-major), µm²
     double* increment = nullptr;      ///< 6n work: Δε_i of the last return (P5), spatial frame
     std::uint8_t* yielded = nullptr;  ///< n work: 1 when the particle flowed in the last return
 };
@@ -65,7 +73,7 @@ struct PlasticFlowLaw {
     CapPlasticity cap;
     double bulk = 0.0;                ///< K, GPa
     double shear = 0.0;               ///< G, GPa
-    bool averaging = true;            ///< P2 with the neighbours
+    int rings = 2;                    ///< pooling depth of P2 (0: the particle's own bonds)
     double volume_factor = 1.0;       ///< Ω_i = volume_factor · 4/3 π R_i³ (1/φ of the packing)
 };
 
@@ -80,15 +88,21 @@ struct PlasticReturnTotals {
     }
 };
 
-/// F_i (P1) of every particle into state.deformation, over its intact bonds; `initial` and `current` are 3n
-/// positions, µm. A row of zeros where the intact bonds do not span 3D.
-void deformationGradients(const IncidenceView& incidence, const RestStateView& bonds, const double* initial,
-                          const double* current, double* deformation);
+/// The strain moments A_i, B_i (P1) of every particle into `moments` (15n), over its intact bonds; `initial` and
+/// `current` are 3n positions, µm.
+void strainMoments(const IncidenceView& incidence, const RestStateView& bonds, const double* initial,
+                   const double* current, double* moments);
 
-/// The return of every particle (P2–P5): updates E^p, e, γ̄, the plastic work, and writes the spatial
-/// increment and the yielded flag. Needs state.deformation from deformationGradients.
-PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const IncidenceView& incidence,
-                                  const RestStateView& bonds, const double* radius, PlasticStateView state);
+/// One ring of pooling (P2): out_i = in_i + Σ_j in_j over the intact bonded neighbours j (15n each).
+void poolMoments(const IncidenceView& incidence, const RestStateView& bonds, const double* in, double* out);
+
+/// F̄ = B A⁻¹ of particle p from its 15 moments into f (9, row-major); false (f untouched) where the pooled
+/// chords do not span 3D (det A below 1e-6 of (tr A)³, i.e. nearly coplanar).
+bool deformationFromMoments(const double* moments, std::size_t p, double* f);
+
+/// The return of every particle (P2–P5) on the pooled moments state.moments: updates E^p, e, γ̄, the plastic
+/// work, and writes the spatial increment and the yielded flag.
+PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radius, PlasticStateView state);
 
 /// Moves the rest state of every intact bond with a yielded end by ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2),
 /// with the ends' current orientations (4n) and positions (3n).

@@ -104,9 +104,9 @@ template <> struct EnumNames<CapHardeningKind> {
     static constexpr std::array<std::string_view, 2> names = {"sigmoid", "linear"};
 };
 
-enum class StrainAveraging { None, Neighbours };
+enum class StrainAveraging { None, Neighbours, SecondNeighbours };
 template <> struct EnumNames<StrainAveraging> {
-    static constexpr std::array<std::string_view, 2> names = {"none", "neighbours"};
+    static constexpr std::array<std::string_view, 3> names = {"none", "neighbours", "second_neighbours"};
 };
 
 enum class CouplingProfile { Linear, Cubic };
@@ -299,7 +299,7 @@ struct PlasticityParams {
     double young = 0.0;                 ///< E of the elastic metric, GPa (resolved: calibration or explicit)
     double poisson = 0.0;               ///< ν of the elastic metric
     std::string material_source;        ///< where E, ν come from (for the log)
-    StrainAveraging averaging = StrainAveraging::Neighbours; ///< the strain judged
+    StrainAveraging averaging = StrainAveraging::SecondNeighbours; ///< the strain judged
     long check_every = 1;               ///< steps between returns
 
     bool operator==(const PlasticityParams&) const = default;

@@ -191,7 +191,8 @@ const std::vector<Key<PlasticityParams>>& plasticityKeys() {
                   "nu of that law (with young_modulus)")
             .defaultIs("the target of [material] calibration"),
         choice<S>("averaging", &S::averaging,
-                  "the strain judged: each particle's own, or the mean F over it and its bonded neighbours"),
+                  "the strain judged: the least-squares F of the particle's own bonds, or of its bonds pooled with "
+                  "those of its bonded neighbours (one ring) or of their neighbours too (two rings)"),
         integer<S>("check_every", &S::check_every, 1, "steps between returns"),
     };
     return keys;

@@ -43,11 +43,12 @@ std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model) {
     fx.law.cap = capLaw(p);
     fx.law.bulk = p.young / (3.0 * (1.0 - 2.0 * p.poisson));
     fx.law.shear = p.young / (2.0 * (1.0 + p.poisson));
-    fx.law.averaging = p.averaging == StrainAveraging::Neighbours;
+    fx.law.rings = static_cast<int>(p.averaging); // none 0, neighbours 1, second_neighbours 2
     fx.law.volume_factor = 1.0 / samplePackingFraction(model.sample);
     fx.check_every = p.check_every;
     const std::size_t n = model.particles.size();
-    fx.deformation.assign(9 * n, 0.0);
+    fx.moments.assign(15 * n, 0.0);
+    fx.pooled.assign(fx.law.rings > 0 ? 15 * n : 0, 0.0);
     fx.increment.assign(6 * n, 0.0);
     fx.yielded.assign(n, 0);
     return fx;
@@ -62,16 +63,20 @@ RestStateView restStateView(Model& m) {
 PlasticStateView stateView(Model& m, Plasticity& fx) {
     Particles& p = m.particles;
     return {p.size(),           p.plastic_strain.data(), p.compaction.data(), p.plastic_shear.data(),
-            p.plastic_work.data(), fx.deformation.data(), fx.increment.data(),  fx.yielded.data()};
+            p.plastic_work.data(), fx.moments.data(), fx.increment.data(),  fx.yielded.data()};
 }
 } // namespace
 
 PlasticReturnTotals plasticReturn(Model& m, Plasticity& fx) {
     const RestStateView bonds = restStateView(m);
+    strainMoments(m.incidence.view(), bonds, m.particles.initial_position.data(), m.particles.position.data(),
+                  fx.moments.data());
+    for (int ring = 0; ring < fx.law.rings; ++ring) {
+        poolMoments(m.incidence.view(), bonds, fx.moments.data(), fx.pooled.data());
+        fx.moments.swap(fx.pooled);
+    }
     const PlasticStateView state = stateView(m, fx);
-    deformationGradients(m.incidence.view(), bonds, m.particles.initial_position.data(),
-                         m.particles.position.data(), fx.deformation.data());
-    fx.last = capReturnPass(fx.law, m.incidence.view(), bonds, m.particles.radius.data(), state);
+    fx.last = capReturnPass(fx.law, m.particles.radius.data(), state);
     if (fx.last.yielded > 0) {
         moveRestStates(bonds, state, m.particles.orientation.data(), m.particles.position.data());
     }
@@ -115,7 +120,7 @@ void describe(const Plasticity& fx, const Model&, const TimeStep&, std::ostream&
         << c.hardening.onset_pressure << " GPa, R " << c.cap_ratio << ", "
         << (c.hardening.kind == CapHardening::Kind::Sigmoid ? "sigmoid" : "linear") << " hardening to "
         << 100.0 * std::expm1(c.hardening.saturationStrain()) << " %; K " << fx.law.bulk << " GPa, G "
-        << fx.law.shear << " GPa; strain " << (fx.law.averaging ? "averaged with the bonded neighbours" : "per particle")
+        << fx.law.shear << " GPa; strain of the bonds pooled over " << fx.law.rings << " ring(s) of neighbours"
         << ", returned every " << fx.check_every << " step(s)\n";
 }
 

@@ -2,7 +2,7 @@
 // each particle's kinematic strain; the plastic strain it returns moves the rest states of the particle's bonds.
 // Its phase:
 //   plasticity.return  every check_every steps, after the drift (and the tool's move), before the bond loads:
-//                      F_i, the return of every particle, then the rest states of the bonds of the yielded ones
+//                      the pooled strain moments, the return of every particle, then the rest states of the bonds of the yielded ones
 //                      (the step's bond loads then see the moved rest states)
 // Its per-particle state (E^p, e, γ̄, plastic work) lives in the particle store, sized by buildPlasticity; the
 // work arrays (F, the spatial increment, the yielded flags) here, rebuilt at each return.
@@ -30,7 +30,8 @@ struct PlasticityParams;
 struct Plasticity {
     PlasticFlowLaw law;
     long check_every = 1;
-    std::vector<double> deformation;   ///< 9n work: F_i
+    std::vector<double> moments;       ///< 15n work: the strain moments (P1), then pooled (P2)
+    std::vector<double> pooled;        ///< 15n work: the other buffer of the pooling
     std::vector<double> increment;     ///< 6n work: Δε_i of the last return
     std::vector<std::uint8_t> yielded; ///< n work
     PlasticReturnTotals last;          ///< of the last return (not restored by a restart: recomputed at the next)
