@@ -499,7 +499,7 @@ int calibrateDensification(const DensificationCalibrateOptions& o) {
             << "\"   # residual volume change of the whole hull, or of the interior (>= 2 mean radii deep)\n";
     // Only a converged result goes into the file scenes read; otherwise it stays beside the history.
     const std::string target = converged ? output : (fs::path(o.out_dir) / "not-converged.toml").string();
-    const std::string text = withDensificationSection(calibration_text, section.str(), target);
+    const std::string text = withCommandSection(calibration_text, section.str(), target);
     if (fs::path(target).has_parent_path()) {
         fs::create_directories(fs::path(target).parent_path());
     }

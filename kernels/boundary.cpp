@@ -5,11 +5,13 @@
 namespace vitrum {
 
 void prescribeDisplacement(const ParticleView& p, const double* x0, const std::int32_t* members, std::size_t count,
-                           const Vec3& displacement, const Vec3& rate) {
+                           const AffineDisplacement& field) {
     parallelFor("bc.prescribe", count, [&](std::size_t k) {
         const std::size_t i = static_cast<std::size_t>(members[k]);
-        store3(p.position, i, load3(x0, i) + displacement);
-        store3(p.velocity, i, rate);
+        const Vec3 X = load3(x0, i);
+        const Vec3 u = field.displacement + field.gradient * (X - field.centre);
+        store3(p.position, i, X + field.fraction * u);
+        store3(p.velocity, i, field.rate * u);
     });
 }
 

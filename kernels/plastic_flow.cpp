@@ -103,6 +103,22 @@ bool deformationFromMoments(const double* moments, std::size_t p, double* f) {
     return true;
 }
 
+void trialStress(const ElasticMetric& metric, const double* g, const double* plastic_strain, double compaction,
+                 double* stress) noexcept {
+    const Mat3 f = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g);
+    const Mat3 green = 0.5 * (f.transpose() * f - Mat3::Identity()); // (P3)
+    double elastic[6];
+    toVoigt(green, elastic);
+    for (int k = 0; k < 6; ++k) {
+        elastic[k] -= plastic_strain[k];
+    }
+    const double mean = (elastic[0] + elastic[1] + elastic[2]) / 3.0;
+    const double p = metric.pressure(-std::log(f.determinant()) - compaction); // (P4)
+    for (int k = 0; k < 6; ++k) {
+        stress[k] = 2.0 * metric.shear * (elastic[k] - (k < 3 ? mean : 0.0)) - (k < 3 ? p : 0.0);
+    }
+}
+
 PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radius, PlasticStateView s) {
     return parallelReduce("plasticity.return", s.n, PlasticReturnTotals{}, [&](std::size_t p,
                                                                                   PlasticReturnTotals& acc) {
@@ -115,17 +131,11 @@ PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radiu
             return;
         }
         const Mat3 f = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g); // (P2)
-        const Mat3 green = 0.5 * (f.transpose() * f - Mat3::Identity()); // (P3)
-        double elastic[6];
-        toVoigt(green, elastic);
         double* ep = s.plastic_strain + 6 * p;
-        for (int k = 0; k < 6; ++k) {
-            elastic[k] -= ep[k];
-        }
         double trial[6];
-        elasticStress(elastic, law.bulk, law.shear, trial); // (P4)
+        trialStress(law.metric, g, ep, s.compaction[p], trial); // (P3)-(P4)
         const CapTensorReturn r =
-            law.cap.returnMap(trial, CapState{s.compaction[p], s.plastic_shear[p]}, law.bulk, law.shear);
+            law.cap.returnMap(trial, CapState{s.compaction[p], s.plastic_shear[p]}, law.metric);
         if (!r.invariants.plastic) {
             return;
         }

@@ -12,11 +12,13 @@
 //   pooled over k rings of intact bonded neighbours: A ← A_i + Σ_j A_j, B likewise, k times (k = 0, 1, 2)
 //   F̄_i = B A⁻¹: the least-squares gradient of the pooled bonds                                             (P2)
 //   E_i = ½ (F̄ᵀ F̄ − I)                         Green–Lagrange strain, initial frame                       (P3)
-//   S_tr = λ tr(E − E^p) I + 2 G (E − E^p),   λ = K − 2G/3                                                   (P4)
+//   S_tr = −p(v) I + 2 G dev(E − E^p),   v = −ln det F̄ − e                                                 (P4)
+//   with p(v) the metric's equation of state (cap_plasticity.hpp M1: Murnaghan's, fitted to the packing)
 // the cap's return of S_tr (kernels/cap_plasticity.hpp R1–R2) gives ΔE^p and the new (e, γ̄); E^p += ΔE^p.
 // After the return S = C:(E − E^p) is on the surface whatever the bonds do, so a prescribed load cannot drive
 // the particle past it: it compacts only as far as the hardening allows. With K, G the packing's calibrated
-// moduli, S is the macroscopic stress of a uniform deformation.
+// moduli and equation of state (vitrum calibrate plasticity fits them to the packing's virtual tests), S is
+// the macroscopic stress the bonds carry in a uniform deformation.
 //
 // The rest states then follow the spatial increment (the push-forward of a covariant strain):
 //   Δε_i = F̄⁻ᵀ ΔE^p F̄⁻¹                                                                                     (P5)
@@ -71,8 +73,7 @@ struct RestStateView {
 /// The law and elastic metric of the return.
 struct PlasticFlowLaw {
     CapPlasticity cap;
-    double bulk = 0.0;                ///< K, GPa
-    double shear = 0.0;               ///< G, GPa
+    ElasticMetric metric;             ///< K₀, K′, G of (P4)
     int rings = 2;                    ///< pooling depth of P2 (0: the particle's own bonds)
     double volume_factor = 1.0;       ///< Ω_i = volume_factor · 4/3 π R_i³ (1/φ of the packing)
 };
@@ -109,13 +110,8 @@ PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radiu
 void moveRestStates(const RestStateView& bonds, const PlasticStateView& state, const double* orientation,
                     const double* position);
 
-/// The elastic law (P4): the stress of an elastic Green–Lagrange strain `elastic` (6 components), GPa.
-inline void elasticStress(const double* elastic, double bulk, double shear, double* stress) noexcept {
-    const double lambda = bulk - 2.0 * shear / 3.0;
-    const double trace = elastic[0] + elastic[1] + elastic[2];
-    for (int k = 0; k < 6; ++k) {
-        stress[k] = 2.0 * shear * elastic[k] + (k < 3 ? lambda * trace : 0.0);
-    }
-}
+/// The trial stress (P4) of a particle: F̄ (9, row-major), its E^p (6) and e; xx yy zz xy yz xz, GPa.
+void trialStress(const ElasticMetric& metric, const double* f, const double* plastic_strain, double compaction,
+                 double* stress) noexcept;
 
 } // namespace vitrum

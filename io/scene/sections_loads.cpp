@@ -41,8 +41,9 @@ const std::vector<Key<BoundaryParams>>& boundaryKeys() {
         setName<S>("set", &S::set, "the set it holds").isRequired(),
         choice<S>(
             "kind", &S::kind,
-            "fixed: clamped; velocity: prescribed velocity; displacement: ramped over ramp_time, then held "
-            "(rotations of a constrained set are clamped)")
+            "fixed: clamped; velocity: prescribed velocity; displacement: ramped over ramp_time, then held; "
+            "strain: a homogeneous displacement gradient, ramped, then held (virtual tests: simple shear, "
+            "oedometric compression); rotations of a constrained set are clamped")
             .isRequired(),
         vector<S>("velocity", &S::value, Unit::Velocity, kAny, "the prescribed velocity")
             .onlyWhen(kind_is(BoundaryKind::Velocity), notUsedWith("kind", &S::kind))
@@ -50,9 +51,18 @@ const std::vector<Key<BoundaryParams>>& boundaryKeys() {
         vector<S>("displacement", &S::value, Unit::Length, kAny, "the prescribed displacement")
             .onlyWhen(kind_is(BoundaryKind::Displacement), notUsedWith("kind", &S::kind))
             .defaultIs("required for kind = \"displacement\""),
+        vector<S>("normal_strain", &S::normal_strain, Unit::None, kAny,
+                  "strain: the final normal strains [H_xx, H_yy, H_zz] of the displacement gradient H, about the "
+                  "set's centroid, tension positive")
+            .onlyWhen(kind_is(BoundaryKind::Strain), notUsedWith("kind", &S::kind)),
+        vector<S>("shear_strain", &S::shear_strain, Unit::None, kAny,
+                  "strain: the final shears [H_xy, H_yz, H_xz] (simple shear u_x = H_xy y, u_y = H_yz z, u_x = "
+                  "H_xz z)")
+            .onlyWhen(kind_is(BoundaryKind::Strain), notUsedWith("kind", &S::kind)),
         number<S>("ramp_time", &S::ramp_time, Unit::Time, kNonNegative,
-                  "displacement: applied linearly over this time (0: at once)")
-            .onlyWhen(kind_is(BoundaryKind::Displacement), notUsedWith("kind", &S::kind)),
+                  "displacement, strain: applied linearly over this time (0: at once)")
+            .onlyWhen([](const S& s) { return s.kind == BoundaryKind::Displacement || s.kind == BoundaryKind::Strain; },
+                      notUsedWith("kind", &S::kind)),
     };
     return keys;
 }
@@ -64,6 +74,9 @@ void boundaryRules(const TableReader& b, BoundaryParams& params, SceneReading& r
     }
     if (params.kind == BoundaryKind::Displacement && !b.find("displacement")) {
         b.missing("displacement", "[ux, uy, uz] (in " + r.units.name(Unit::Length) + ") for kind = " + kind);
+    }
+    if (params.kind == BoundaryKind::Strain && !b.find("normal_strain") && !b.find("shear_strain")) {
+        b.missing("normal_strain", "[H_xx, H_yy, H_zz] and/or shear_strain [H_xy, H_yz, H_xz] for kind = " + kind);
     }
 }
 
@@ -92,6 +105,8 @@ const std::vector<Key<LoadParams>>& loadKeys() {
             .onlyWhen(kind_is(LoadKind::Stress), notUsedWith("kind", &S::kind)),
         vector<S>("shear_stress", &S::shear_stress, Unit::Stress, kAny, "the shear stresses held [xy, yz, xz]")
             .onlyWhen(kind_is(LoadKind::Stress), notUsedWith("kind", &S::kind)),
+        number<S>("start_time", &S::start_time, Unit::Time, kNonNegative,
+                  "time at which the load starts (zero before): loads in sequence, e.g. confinement then axial"),
         number<S>("ramp_time", &S::ramp_time, Unit::Time, kNonNegative,
                   "time of the linear rise to the load held"),
         number<S>("hold_time", &S::hold_time, Unit::Time, kNonNegative, "time at the load held"),

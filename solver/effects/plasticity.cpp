@@ -41,8 +41,7 @@ std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model) {
     model.particles.enablePlasticity(); // a restart's checkpoint brings it back filled
     Plasticity fx;
     fx.law.cap = capLaw(p);
-    fx.law.bulk = p.young / (3.0 * (1.0 - 2.0 * p.poisson));
-    fx.law.shear = p.young / (2.0 * (1.0 + p.poisson));
+    fx.law.metric = ElasticMetric{p.bulk, p.bulk_slope, p.shear};
     fx.law.rings = static_cast<int>(p.averaging); // none 0, neighbours 1, second_neighbours 2
     fx.law.volume_factor = 1.0 / samplePackingFraction(model.sample);
     fx.check_every = p.check_every;
@@ -119,8 +118,8 @@ void describe(const Plasticity& fx, const Model&, const TimeStep&, std::ostream&
     log << "  plasticity cap law on the particles' strain: q_y " << c.shear_limit << " GPa, p_b0 "
         << c.hardening.onset_pressure << " GPa, R " << c.cap_ratio << ", "
         << (c.hardening.kind == CapHardening::Kind::Sigmoid ? "sigmoid" : "linear") << " hardening to "
-        << 100.0 * std::expm1(c.hardening.saturationStrain()) << " %; K " << fx.law.bulk << " GPa, G "
-        << fx.law.shear << " GPa; strain of the bonds pooled over " << fx.law.rings << " ring(s) of neighbours"
+        << 100.0 * std::expm1(c.hardening.saturationStrain()) << " %; K0 " << fx.law.metric.bulk << " GPa, K' "
+        << fx.law.metric.bulk_slope << ", G " << fx.law.metric.shear << " GPa; strain of the bonds pooled over " << fx.law.rings << " ring(s) of neighbours"
         << ", returned every " << fx.check_every << " step(s)\n";
 }
 
