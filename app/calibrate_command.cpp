@@ -80,7 +80,7 @@ int calibrateElastic(const CalibrateOptions& o) {
     using Clock = std::chrono::steady_clock;
     std::ostream& log = std::cout;
     const Scene base = readScene(o.scene, o.overrides);
-    if (!base.measure.uniaxial) {
+    if (!base.measure.uniaxial()) {
         throw InputError(o.scene + ": the calibration needs a tensile test scene with [measure] kind = \"uniaxial\"");
     }
     if (base.sample.lattice != Lattice::Random) {

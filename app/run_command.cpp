@@ -161,6 +161,10 @@ LoopEnd timeLoop(Loop& l, long first) {
         }
         if (n % l.scene.output.every == 0 || n == steps) {
             record(n);
+            if (l.recorder.finished()) {
+                if (map_every > 0) l.maps.write(l.model, l.effects, n, l.ctx.time);
+                break; // the measurement is complete (material_test: the sample flows)
+            }
             keepGoodState(n);
             observeCracks(n);
             if (l.verbose) progress.update(n, l.recorder.progressText());
@@ -280,6 +284,11 @@ int runScene(const RunOptions& options) {
 
     // 8. The measurements and the summary.
     nlohmann::ordered_json measurements;
+    if (const MaterialTestGauge* gauge = recorder.materialTest()) {
+        series.flush(); // the whole history, rows before a restart included
+        measurements["material_test"] =
+            materialTestResult(*gauge, readSeries((out / "series.csv").string()), scene.measure.offset);
+    }
     if (effects.indenter) {
         measureIndentation(scene, model, effects, out, measurements, cracks ? &*cracks : nullptr);
         if (cracks) measurements["crack_snapshots"] = cracks->json();

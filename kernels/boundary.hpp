@@ -15,9 +15,17 @@ struct AffineDisplacement {
     Vec3 centre = Vec3::Zero();                        ///< c, µm
     double fraction = 0.0;                             ///< s
     double rate = 0.0;                                 ///< ṡ, 1/ns
+    Quat rotation = Quat::Identity();                  ///< R of the polar decomposition I + s H = R U
+    Vec3 spin = Vec3::Zero();                          ///< ω of the spin ½(L − Lᵀ), L = ṡ H (I + s H)⁻¹, rad/ns
 };
 
-/// Sets x = x₀ + u(x₀) and v = u̇(x₀) for the members (the field evaluated at the current time).
+/// The field of a ramp at fraction s and rate ṡ: R and ω from I + s H (particles are created unrotated, so a
+/// held particle turns with the material: no couple from the boundary in a homogeneous deformation).
+AffineDisplacement affineField(const Vec3& displacement, const Eigen::Matrix3d& gradient, const Vec3& centre,
+                               double fraction, double rate);
+
+/// Sets x = x₀ + u(x₀), v = u̇(x₀), the orientation R and the spin ω for the members (the field evaluated at
+/// the current time).
 void prescribeDisplacement(const ParticleView& p, const double* initial_position, const std::int32_t* members,
                            std::size_t count, const AffineDisplacement& field);
 

@@ -22,7 +22,10 @@
 //
 // The rest states then follow the spatial increment (the push-forward of a covariant strain):
 //   Δε_i = F̄⁻ᵀ ΔE^p F̄⁻¹                                                                                     (P5)
-// and every intact bond with a yielding end gets Δε_b = ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2).
+// and every intact bond with a yielding end gets Δε_b = ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2), taken in the
+// unloaded configuration: for the rest length l₀ of a bond of initial chord n₀ L, Δl₀/l₀ = n₀·ΔE^p·n₀ L²/l₀²,
+// while x̂·Δε_i·x̂ = n₀·ΔE^p·n₀ L²/l² along the current chord of length l, so the bond applies
+//   (l/l₀)² Δε_b                                                                                             (P6)
 //
 // Why pooled moments and not the mean of the neighbours' F: a hull particle's own bonds all point inwards and
 // carry the traction, so its own F is one-sided and noisy (3-bond particles: exactly determined); the mean of

@@ -60,6 +60,11 @@ template <> struct EnumNames<BoundaryKind> {
 };
 
 /// A [[load]]: hydrostatic pressure, or a uniform stress tensor applied as tractions σ·n on the hull.
+enum class MeasureKind { None, Uniaxial, MaterialTest };
+template <> struct EnumNames<MeasureKind> {
+    static constexpr std::array<std::string_view, 3> names = {"none", "uniaxial", "material_test"};
+};
+
 enum class LoadKind { Pressure, Stress };
 template <> struct EnumNames<LoadKind> {
     static constexpr std::array<std::string_view, 2> names = {"pressure", "stress"};
@@ -412,10 +417,15 @@ struct TimeParams {
 
 /// Uniaxial measurement: apparent modulus σ/ε from the reaction on a loaded set, the sample's cross-section
 /// normal to `axis` and its length along it (box or cylinder samples).
+/// A measurement of the run: none, the uniaxial bar's moduli (solver/measure/uniaxial.hpp), or a material-
+/// point virtual test's yield point and residual state (solver/measure/material_test.hpp).
 struct MeasureParams {
-    bool uniaxial = false;
-    std::string loaded_set;
-    int axis = 2; ///< 0 x, 1 y, 2 z
+    MeasureKind kind = MeasureKind::None;
+    std::string loaded_set;  ///< uniaxial
+    int axis = 2;            ///< uniaxial: 0 x, 1 y, 2 z
+    double offset = 0.002;   ///< material_test: |mean E^p| at the yield point
+    double stop_strain = 0.0; ///< material_test: the run ends at a row where |mean E^p| reaches it (0: never)
+    bool uniaxial() const { return kind == MeasureKind::Uniaxial; }
 
     bool operator==(const MeasureParams&) const = default;
 };

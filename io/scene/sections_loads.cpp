@@ -224,9 +224,17 @@ Section timeSection() {
 const std::vector<Key<MeasureParams>>& measureKeys() {
     using S = MeasureParams;
     static const std::vector<std::string> axes = {"x", "y", "z"};
+    const auto uniaxial = [](const S& s) { return s.kind == MeasureKind::Uniaxial; };
+    const auto material = [](const S& s) { return s.kind == MeasureKind::MaterialTest; };
     static const std::vector<Key<S>> keys = {
-        constant<S>("kind", "uniaxial", "apparent modulus sigma/epsilon from the reaction on the loaded set"),
-        setName<S>("loaded_set", &S::loaded_set, "the set whose reaction gives the stress").isRequired(),
+        choice<S>("kind", &S::kind,
+                  "uniaxial: apparent modulus sigma/epsilon from the reaction on the loaded set; material_test: "
+                  "the interior's stress and strain along the path of the [[load]]s or the strain [[boundary]], "
+                  "its yield point and residual state (solver/measure/material_test.hpp)")
+            .isRequired(),
+        setName<S>("loaded_set", &S::loaded_set, "the set whose reaction gives the stress")
+            .onlyWhen(uniaxial, notUsedWith("kind", &S::kind))
+            .defaultIs("required for kind = \"uniaxial\""),
         custom<S>(
             "axis", joined(axes, true), "the loading axis (box, or cylinder along z)",
             [](const Key<S>& self, const KeyIn& in, S& s) {
@@ -234,7 +242,15 @@ const std::vector<Key<MeasureParams>>& measureKeys() {
             },
             [](const Key<S>&, const S& s, const Units&) {
                 return tomlString(axes[static_cast<std::size_t>(s.axis)]);
-            }),
+            })
+            .onlyWhen(uniaxial, notUsedWith("kind", &S::kind)),
+        number<S>("offset", &S::offset, Unit::None, Range{0.0, 0.1, true, false},
+                  "the yield point's offset: the interior's mean plastic strain |E^p| at yield")
+            .onlyWhen(material, notUsedWith("kind", &S::kind)),
+        number<S>("stop_strain", &S::stop_strain, Unit::None, kNonNegative,
+                  "the run ends at the first row where the interior's mean |E^p| reaches it (0: never; a "
+                  "stress-controlled test past the shear limit flows without bound)")
+            .onlyWhen(material, notUsedWith("kind", &S::kind)),
     };
     return keys;
 }
@@ -242,20 +258,26 @@ const std::vector<Key<MeasureParams>>& measureKeys() {
 Section measureSection() {
     Section s =
         plainSection<MeasureParams>("measure",
-                                    "A uniaxial measurement: apparent modulus from the reaction on a loaded "
-                                    "set, the sample's cross-section normal to the axis and its length "
-                                    "along it (box or cylinder samples).",
+                                    "A measurement: the uniaxial bar's apparent modulus from the reaction on a "
+                                    "loaded set (box or cylinder samples), or a material-point virtual test's "
+                                    "yield point and residual state (issue 26).",
                                     member<&Scene::measure>, &measureKeys);
     s.read = [](SceneReading& r) {
         const TableReader table = r.top.subtable("measure");
         if (table.table()) {
             readKeys(table, measureKeys(), r.scene.measure, r);
-            r.scene.measure.uniaxial = true;
+            if (r.scene.measure.kind == MeasureKind::None) {
+                table.fail(*table.find("kind"), "key 'measure.kind': expected \"uniaxial\" or \"material_test\" "
+                                                "(leave [measure] out for none), got \"none\"");
+            }
+            if (r.scene.measure.uniaxial() && !table.find("loaded_set")) {
+                table.missing("loaded_set", "the set whose reaction gives the stress, for kind = \"uniaxial\"");
+            }
         }
     };
     const auto write = s.write;
     s.write = [write](const Scene& scene, const Units& units, std::vector<std::string>& blocks) {
-        if (scene.measure.uniaxial) {
+        if (scene.measure.kind != MeasureKind::None) {
             write(scene, units, blocks);
         }
     };

@@ -15,14 +15,9 @@
 namespace vitrum {
 
 AffineDisplacement BoundaryCondition::fieldAt(double t) const {
-    AffineDisplacement f;
-    f.displacement = kind == BoundaryKind::Displacement ? value : Vec3::Zero();
-    f.gradient = gradient;
-    f.centre = centre;
     const bool ramping = ramp_time > 0.0 && t < ramp_time;
-    f.fraction = ramping ? t / ramp_time : 1.0;
-    f.rate = ramping ? 1.0 / ramp_time : 0.0;
-    return f;
+    return affineField(kind == BoundaryKind::Displacement ? value : Vec3::Zero(), gradient, centre,
+                       ramping ? t / ramp_time : 1.0, ramping ? 1.0 / ramp_time : 0.0);
 }
 
 std::size_t Model::setIndex(const std::string& name) const {

@@ -36,6 +36,18 @@ TEST(StrainBoundary, MovesItsSetAlongTheAffineFieldAboutItsCentroidWithTheRampsR
     }
 }
 
+TEST(StrainBoundary, TurnsItsSetWithTheMaterialRotationOfSimpleShear) {
+    // F = I + γ e_x ⊗ e_y: the polar rotation is about z by −atan(γ/2), the spin ω_z = −γ̇/2 at γ = 0.
+    Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+    h(0, 1) = 0.4;
+    const AffineDisplacement at = affineField(Vec3::Zero(), h, Vec3::Zero(), 1.0, 0.0);
+    const Eigen::AngleAxisd turn(at.rotation);
+    EXPECT_NEAR(turn.angle() * turn.axis().z(), -std::atan(0.2), 1e-14);
+    const AffineDisplacement start = affineField(Vec3::Zero(), h, Vec3::Zero(), 0.0, 0.5);
+    EXPECT_NEAR(start.spin.z(), -0.5 * 0.4 * 0.5, 1e-15);
+    EXPECT_EQ(start.rotation.w(), 1.0);
+}
+
 TEST(LoadProgramme, StartsAtItsStartTimeAndRampsHoldsAndReleasesAfterIt) {
     LoadParams l;
     l.pressure = 6.0;

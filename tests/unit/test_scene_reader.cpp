@@ -169,7 +169,7 @@ TEST(SceneReader, FullSceneIsReadAndRoundTripsThroughResolvedToml) {
     EXPECT_EQ(scene.sets[2].name, "side-wall");
     EXPECT_EQ(scene.boundaries[1].kind, BoundaryKind::Velocity);
     EXPECT_EQ(scene.damping.kind, DampingKind::CundallLocal);
-    EXPECT_TRUE(scene.measure.uniaxial);
+    EXPECT_TRUE(scene.measure.uniaxial());
     EXPECT_EQ(scene.measure.axis, 1);
 
     const std::string resolved = resolvedSceneToml(scene);
@@ -319,7 +319,8 @@ std::vector<std::string> everyKeyScenes() {
                                 "hardening = \"sigmoid\"\nonset_pressure = 7500\nsaturation = 0.2\n"
                                 "sigmoid_amplitude = 3000\nsigmoid_pressure = 1800\nbulk_modulus = 43000\n"
                                 "bulk_modulus_slope = 1.2\nshear_modulus = 34000\naveraging = \"none\"\n"
-                                "check_every = 4\n"}}),
+                                "check_every = 4\n"},
+                 {"measure", "[measure]\nkind = \"material_test\"\noffset = 0.003\nstop_strain = 0.05\n"}}),
         sceneOf(kEverySection,
                 {{"effects", "[effects]\nlist = [\"damping\", \"plasticity\", \"indenter\", \"fracture\"]\n"},
                  {"densification", ""},
