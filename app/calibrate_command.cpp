@@ -60,8 +60,10 @@ std::string exact(double x) {
     return s;
 }
 
+} // namespace
+
 /// Runs the `run` driver in-process with its log swallowed (the summary line included); returns summary.json.
-nlohmann::json runQuietly(const RunOptions& run) {
+nlohmann::json runSceneQuietly(const RunOptions& run) {
     std::ostringstream quiet_log;
     auto* previous = std::cout.rdbuf(quiet_log.rdbuf());
     try {
@@ -74,7 +76,10 @@ nlohmann::json runQuietly(const RunOptions& run) {
     return readJson(fs::path(run.out_dir) / "summary.json");
 }
 
-} // namespace
+
+std::string readTextFile(const std::string& path) { return readText(path); }
+
+std::string shortestText(double x) { return exact(x); }
 
 int calibrateElastic(const CalibrateOptions& o) {
     using Clock = std::chrono::steady_clock;
@@ -113,7 +118,7 @@ int calibrateElastic(const CalibrateOptions& o) {
                 run.overrides.push_back("material.beam_young_modulus=" + tag(young));
                 run.overrides.push_back("sample.file=\"" + cache + "\"");
                 const auto t0 = Clock::now();
-                const nlohmann::json m = runQuietly(run)["measurements"];
+                const nlohmann::json m = runSceneQuietly(run)["measurements"];
                 CalibrationRecord rec;
                 rec.seed = seed;
                 rec.sample = {ratio, young, m["young_modulus_GPa"].get<double>(), m["poisson_ratio"].get<double>()};
@@ -250,7 +255,7 @@ public:
             const bool reuse = fs::exists(done) && fs::exists(fs::path(run.out_dir) / "resolved_scene.toml") &&
                                readText((fs::path(run.out_dir) / "resolved_scene.toml").string()) ==
                                    resolvedSceneToml(readScene(run.scene_path, run.overrides));
-            const nlohmann::json m = (reuse ? readJson(done) : runQuietly(run))["measurements"];
+            const nlohmann::json m = (reuse ? readJson(done) : runSceneQuietly(run))["measurements"];
             PressurePoint pt;
             pt.pressure = m["pressure_GPa"].get<double>();
             pt.in_situ = m["in_situ_volume_change"].get<double>();

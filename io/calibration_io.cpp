@@ -153,6 +153,13 @@ CalibrationFile readCalibration(const std::string& path) {
         within(c.bulk, "plasticity.bulk_modulus", 0.0, kHuge, true, true, "a finite number > 0 (GPa)");
         within(c.bulk_slope, "plasticity.bulk_modulus_slope", 0.0, 20.0, false, true, "a number in [0, 20)");
         within(c.shear, "plasticity.shear_modulus", 0.0, kHuge, true, true, "a finite number > 0 (GPa)");
+        if (const auto law = root["plasticity"]["law"].value<std::string>()) {
+            c.law = *law;
+            c.shear_limit = requireNumber(root, "plasticity.shear_limit", path);
+            c.cap_ratio = requireNumber(root, "plasticity.cap_ratio", path);
+            within(c.shear_limit, "plasticity.shear_limit", 0.0, kHuge, true, true, "a finite number > 0 (GPa)");
+            within(c.cap_ratio, "plasticity.cap_ratio", 0.0, kHuge, true, true, "a finite number > 0");
+        }
         f.plasticity = c;
     }
     return f;

@@ -27,6 +27,9 @@ struct PlasticityCalibration {
     double bulk = 0.0;       ///< K₀
     double bulk_slope = 0.0; ///< K′
     double shear = 0.0;      ///< G
+    std::string law;         ///< the published law whose targets the cap's micro-parameters were fitted to ("": none)
+    double shear_limit = 0.0;///< q_y^μ, the particle law's shear limit for that law's targets
+    double cap_ratio = 0.0;  ///< R^μ
 };
 
 struct CalibrationFile {

@@ -1,5 +1,8 @@
 #include "kernels/plastic_flow.hpp"
 
+#include <algorithm>
+#include <vector>
+
 #include <cmath>
 #include <numbers>
 
@@ -33,74 +36,103 @@ Mat3 fromVoigt(const double* v) {
 
 } // namespace
 
-void strainMoments(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
-                   const double* current, double* moments) {
-    parallelFor("plasticity.moments", inc.n, [&](std::size_t p) {
-        Mat3 a = Mat3::Zero();
-        Mat3 b = Mat3::Zero();
+namespace {
+
+/// Σ over the intact bonds of p of f(dX, other) into `out` (width doubles per particle), in incidence order.
+template <int W, class F>
+void perParticleBondSum(const IncidenceView& inc, const RestStateView& bonds, const char* label, double* out, F f) {
+    parallelFor(label, inc.n, [&](std::size_t p) {
+        double sum[W] = {};
         for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
             const std::int32_t bond = inc.entry[k] >> 1;
             if (!intact(bonds, bond)) {
                 continue;
             }
-            const std::size_t other = static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
-            const Vec3 dX = load3(initial, other) - load3(initial, p);
-            const Vec3 dx = load3(current, other) - load3(current, p);
-            a += dX * dX.transpose();
-            b += dx * dX.transpose();
+            f(p, static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]), sum);
         }
-        double* m = moments + 15 * p;
-        toVoigt(a, m);
-        for (int r = 0; r < 3; ++r) {
-            for (int c = 0; c < 3; ++c) {
-                m[6 + 3 * r + c] = b(r, c);
-            }
-        }
+        std::copy(sum, sum + W, out + W * p);
     });
 }
 
-void poolMoments(const IncidenceView& inc, const RestStateView& bonds, const double* in, double* out) {
+/// One ring of pooling (P2): out_i = in_i + Σ_j in_j over the intact bonded neighbours j, W columns.
+template <int W>
+void poolOnce(const IncidenceView& inc, const RestStateView& bonds, const double* in, double* out) {
     parallelFor("plasticity.pool", inc.n, [&](std::size_t p) {
-        double sum[15];
-        for (int c = 0; c < 15; ++c) {
-            sum[c] = in[15 * p + c];
-        }
+        double sum[W];
+        std::copy(in + W * p, in + W * (p + 1), sum);
         for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) { // in incidence order: deterministic
             const std::int32_t bond = inc.entry[k] >> 1;
             if (!intact(bonds, bond)) {
                 continue;
             }
             const std::size_t other = static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
-            for (int c = 0; c < 15; ++c) {
-                sum[c] += in[15 * other + c];
+            for (int c = 0; c < W; ++c) {
+                sum[c] += in[W * other + c];
             }
         }
-        for (int c = 0; c < 15; ++c) {
-            out[15 * p + c] = sum[c];
-        }
+        std::copy(sum, sum + W, out + W * p);
     });
 }
 
-bool deformationFromMoments(const double* moments, std::size_t p, double* f) {
-    const double* m = moments + 15 * p;
-    const Mat3 a = fromVoigt(m);
-    const double scale = a.trace();
-    if (!(a.determinant() > 1e-6 * scale * scale * scale)) {
-        return false;
+/// `rings` rings of pooling of `data` (W columns), `work` the other buffer; the result ends in `data`.
+template <int W>
+void pool(const IncidenceView& inc, const RestStateView& bonds, int rings, std::vector<double>& data,
+          std::vector<double>& work) {
+    for (int ring = 0; ring < rings; ++ring) {
+        poolOnce<W>(inc, bonds, data.data(), work.data());
+        data.swap(work);
     }
-    Mat3 b;
-    for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-            b(r, c) = m[6 + 3 * r + c];
+}
+
+} // namespace
+
+void referenceInverse(const IncidenceView& inc, const RestStateView& bonds, const double* initial, int rings,
+                      StrainWork& work) {
+    work.a.resize(6 * inc.n);
+    work.scratch.resize(9 * inc.n);
+    work.inverse.resize(9 * inc.n);
+    perParticleBondSum<6>(inc, bonds, "plasticity.reference", work.a.data(),
+                          [&](std::size_t p, std::size_t other, double* sum) {
+                              const Vec3 dX = load3(initial, other) - load3(initial, p);
+                              const Mat3 a = dX * dX.transpose();
+                              double v[6];
+                              toVoigt(a, v);
+                              for (int c = 0; c < 6; ++c) sum[c] += v[c];
+                          });
+    pool<6>(inc, bonds, rings, work.a, work.scratch);
+    parallelFor("plasticity.reference", inc.n, [&](std::size_t p) {
+        const Mat3 a = fromVoigt(work.a.data() + 6 * p);
+        const double scale = a.trace();
+        // A well-spread neighbourhood has det(a) ≈ (tr a / 3)³; below 1e-6 of tr³ it is (nearly) coplanar.
+        const Mat3 inverse = a.determinant() > 1e-6 * scale * scale * scale ? Mat3(a.inverse()) : Mat3(Mat3::Zero());
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) {
+                work.inverse[9 * p + 3 * r + c] = inverse(r, c);
+            }
         }
-    }
-    const Mat3 g = b * a.inverse();
-    for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-            f[3 * r + c] = g(r, c);
-        }
-    }
-    return true;
+    });
+    work.a.resize(9 * inc.n); // the B moments' buffer from now on
+}
+
+void pooledDeformation(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
+                       const double* current, int rings, StrainWork& work, double* deformation) {
+    work.a.resize(9 * inc.n);
+    work.scratch.resize(9 * inc.n);
+    perParticleBondSum<9>(inc, bonds, "plasticity.moments", work.a.data(),
+                          [&](std::size_t p, std::size_t other, double* sum) {
+                              const Vec3 dX = load3(initial, other) - load3(initial, p);
+                              const Vec3 dx = load3(current, other) - load3(current, p);
+                              for (int r = 0; r < 3; ++r) {
+                                  for (int c = 0; c < 3; ++c) sum[3 * r + c] += dx[r] * dX[c];
+                              }
+                          });
+    pool<9>(inc, bonds, rings, work.a, work.scratch);
+    parallelFor("plasticity.gradient", inc.n, [&](std::size_t p) {
+        const Mat3 b = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.a.data() + 9 * p);
+        const Mat3 ainv = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.inverse.data() + 9 * p);
+        const Mat3 f = b * ainv; // (P2); zero where the pooled chords do not span 3D
+        Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(deformation + 9 * p) = f;
+    });
 }
 
 void trialStress(const ElasticMetric& metric, const double* g, const double* plastic_strain, double compaction,
@@ -126,9 +158,9 @@ PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radiu
         for (int k = 0; k < 6; ++k) {
             s.increment[6 * p + k] = 0.0;
         }
-        double g[9];
-        if (!deformationFromMoments(s.moments, p, g)) {
-            return;
+        const double* g = s.deformation + 9 * p;
+        if (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0) {
+            return; // no F̄: the pooled chords do not span 3D (a zero inverse gives a zero row)
         }
         const Mat3 f = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g); // (P2)
         double* ep = s.plastic_strain + 6 * p;

@@ -44,6 +44,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "kernels/cap_plasticity.hpp"
 #include "kernels/views.hpp"
@@ -57,7 +58,7 @@ struct PlasticStateView {
     double* compaction = nullptr;     ///< n, e
     double* plastic_shear = nullptr;  ///< n, γ̄
     double* plastic_work = nullptr;   ///< n, Σ S:ΔE^p, GPa
-    const double* moments = nullptr;  ///< 15n: the pooled A (6: xx yy zz xy yz xz) and B (9, row-major), µm²
+    const double* deformation = nullptr; ///< 9n: F̄ (P2), row-major; zeros where it does not exist
     double* increment = nullptr;      ///< 6n work: Δε_i of the last return (P5), spatial frame
     std::uint8_t* yielded = nullptr;  ///< n work: 1 when the particle flowed in the last return
 };
@@ -92,20 +93,26 @@ struct PlasticReturnTotals {
     }
 };
 
-/// The strain moments A_i, B_i (P1) of every particle into `moments` (15n), over its intact bonds; `initial` and
-/// `current` are 3n positions, µm.
-void strainMoments(const IncidenceView& incidence, const RestStateView& bonds, const double* initial,
-                   const double* current, double* moments);
+/// Work arrays of the pooled strain: the inverse of the pooled reference moments (9n), rebuilt only when the
+/// intact bonds change, and the buffers of the current moments and of the pooling.
+struct StrainWork {
+    std::vector<double> inverse; ///< 9n: (Σ ΔX ΔXᵀ pooled)⁻¹, row-major, zeros where the chords do not span 3D
+    std::vector<double> a;       ///< 9n buffer
+    std::vector<double> scratch; ///< 9n buffer
+};
 
-/// One ring of pooling (P2): out_i = in_i + Σ_j in_j over the intact bonded neighbours j (15n each).
-void poolMoments(const IncidenceView& incidence, const RestStateView& bonds, const double* in, double* out);
+/// A_i = Σ ΔX ΔXᵀ over the intact bonds of i (P1), pooled over `rings` rings (P2), inverted into
+/// work.inverse (zeros where det A is below 1e-6 of (tr A)³, i.e. the chords are nearly coplanar).
+void referenceInverse(const IncidenceView& incidence, const RestStateView& bonds, const double* initial, int rings,
+                      StrainWork& work);
 
-/// F̄ = B A⁻¹ of particle p from its 15 moments into f (9, row-major); false (f untouched) where the pooled
-/// chords do not span 3D (det A below 1e-6 of (tr A)³, i.e. nearly coplanar).
-bool deformationFromMoments(const double* moments, std::size_t p, double* f);
+/// F̄_i = (Σ Δx ΔXᵀ pooled) A⁻¹ of every particle (P1–P2) into `deformation` (9n, row-major; zeros where A⁻¹
+/// is), with work.inverse from referenceInverse on the same intact bonds; `initial`, `current` 3n, µm.
+void pooledDeformation(const IncidenceView& incidence, const RestStateView& bonds, const double* initial,
+                       const double* current, int rings, StrainWork& work, double* deformation);
 
-/// The return of every particle (P2–P5) on the pooled moments state.moments: updates E^p, e, γ̄, the plastic
-/// work, and writes the spatial increment and the yielded flag.
+/// The return of every particle (P3–P5) on state.deformation: updates E^p, e, γ̄, the plastic work, and writes
+/// the spatial increment and the yielded flag.
 PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radius, PlasticStateView state);
 
 /// Moves the rest state of every intact bond with a yielded end by ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2),

@@ -13,13 +13,17 @@
 
 namespace vitrum {
 
-CapPlasticity capLaw(const PlasticityParams& p) {
-    switch (p.law) {
+CapPlasticity publishedCapLaw(CapLaw law) {
+    switch (law) {
     case CapLaw::Bruns2020: return CapPlasticity::bruns2020();
     case CapLaw::Kermouche2008: return CapPlasticity::kermouche2008();
     case CapLaw::Molnar2017: return CapPlasticity::molnar2017();
     case CapLaw::Custom: break;
     }
+    return CapPlasticity{};
+}
+
+CapPlasticity capLaw(const PlasticityParams& p) {
     CapPlasticity law;
     law.shear_limit = p.shear_limit;
     law.cap_ratio = p.cap_ratio;
@@ -46,8 +50,7 @@ std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model) {
     fx.law.volume_factor = 1.0 / samplePackingFraction(model.sample);
     fx.check_every = p.check_every;
     const std::size_t n = model.particles.size();
-    fx.moments.assign(15 * n, 0.0);
-    fx.pooled.assign(fx.law.rings > 0 ? 15 * n : 0, 0.0);
+    fx.deformation.assign(9 * n, 0.0);
     fx.increment.assign(6 * n, 0.0);
     fx.yielded.assign(n, 0);
     return fx;
@@ -62,18 +65,23 @@ RestStateView restStateView(Model& m) {
 PlasticStateView stateView(Model& m, Plasticity& fx) {
     Particles& p = m.particles;
     return {p.size(),           p.plastic_strain.data(), p.compaction.data(), p.plastic_shear.data(),
-            p.plastic_work.data(), fx.moments.data(), fx.increment.data(),  fx.yielded.data()};
+            p.plastic_work.data(), fx.deformation.data(), fx.increment.data(), fx.yielded.data()};
 }
 } // namespace
 
 PlasticReturnTotals plasticReturn(Model& m, Plasticity& fx) {
     const RestStateView bonds = restStateView(m);
-    strainMoments(m.incidence.view(), bonds, m.particles.initial_position.data(), m.particles.position.data(),
-                  fx.moments.data());
-    for (int ring = 0; ring < fx.law.rings; ++ring) {
-        poolMoments(m.incidence.view(), bonds, fx.moments.data(), fx.pooled.data());
-        fx.moments.swap(fx.pooled);
+    // The reference moments depend only on the intact bonds: rebuilt when fracture broke one since.
+    long long breaks = 0;
+    for (const std::int32_t b : m.particles.broken_bonds) { // empty without fracture; in index order
+        breaks += b;
     }
+    if (breaks != fx.reference_breaks) {
+        referenceInverse(m.incidence.view(), bonds, m.particles.initial_position.data(), fx.law.rings, fx.strain);
+        fx.reference_breaks = breaks;
+    }
+    pooledDeformation(m.incidence.view(), bonds, m.particles.initial_position.data(), m.particles.position.data(),
+                      fx.law.rings, fx.strain, fx.deformation.data());
     const PlasticStateView state = stateView(m, fx);
     fx.last = capReturnPass(fx.law, m.particles.radius.data(), state);
     if (fx.last.yielded > 0) {

@@ -26,19 +26,24 @@ struct RunClock;
 struct Scene;
 struct TimeStep;
 struct PlasticityParams;
+enum class CapLaw;
 
 struct Plasticity {
     PlasticFlowLaw law;
     long check_every = 1;
-    std::vector<double> moments;       ///< 15n work: the strain moments (P1), then pooled (P2)
-    std::vector<double> pooled;        ///< 15n work: the other buffer of the pooling
+    StrainWork strain;                 ///< the pooled reference inverse (cached) and the pooling buffers
+    long long reference_breaks = -1;   ///< broken bonds when strain.inverse was built (−1: not yet)
+    std::vector<double> deformation;   ///< 9n work: F̄ (P2)
     std::vector<double> increment;     ///< 6n work: Δε_i of the last return
     std::vector<std::uint8_t> yielded; ///< n work
     PlasticReturnTotals last;          ///< of the last return (not restored by a restart: recomputed at the next)
 };
 
-/// The cap law of the scene's [plasticity] (a preset, or the custom parameters).
+/// The cap law of the scene's resolved [plasticity] (a preset's constants are filled in by the reader).
 CapPlasticity capLaw(const PlasticityParams& params);
+
+/// The published law's constants (cap_plasticity.hpp presets); the default law for Custom.
+CapPlasticity publishedCapLaw(CapLaw law);
 
 /// The effect for `scene` (nullopt when not listed); sizes the particles' plastic state.
 std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model);

@@ -32,15 +32,15 @@ const double kShear = kYoung / (2.0 * (1.0 + kPoisson));
 
 struct Fixture {
     Model model = fccModel(SampleShape::Box, 1.5, 1500);
-    std::vector<double> moments, pooled, increment;
+    std::vector<double> deformation, increment;
+    StrainWork work;
     std::vector<std::uint8_t> yielded;
     PlasticFlowLaw law;
 
     Fixture() {
         model.particles.enablePlasticity();
         const std::size_t n = model.particles.size();
-        moments.assign(15 * n, 0.0);
-        pooled.assign(15 * n, 0.0);
+        deformation.assign(9 * n, 0.0);
         increment.assign(6 * n, 0.0);
         yielded.assign(n, 0);
         law.cap = CapPlasticity::bruns2020();
@@ -53,7 +53,7 @@ struct Fixture {
     PlasticStateView state() {
         Particles& p = model.particles;
         return {p.size(),           p.plastic_strain.data(), p.compaction.data(), p.plastic_shear.data(),
-                p.plastic_work.data(), moments.data(),         increment.data(),    yielded.data()};
+                p.plastic_work.data(), deformation.data(),     increment.data(),    yielded.data()};
     }
     void deform(const Mat3& a) {
         Particles& p = model.particles;
@@ -62,21 +62,15 @@ struct Fixture {
         }
     }
     void poolNow() {
-        strainMoments(model.incidence.view(), bonds(), model.particles.initial_position.data(),
-                      model.particles.position.data(), moments.data());
-        for (int ring = 0; ring < law.rings; ++ring) {
-            poolMoments(model.incidence.view(), bonds(), moments.data(), pooled.data());
-            moments.swap(pooled);
-        }
+        referenceInverse(model.incidence.view(), bonds(), model.particles.initial_position.data(), law.rings, work);
+        pooledDeformation(model.incidence.view(), bonds(), model.particles.initial_position.data(),
+                          model.particles.position.data(), law.rings, work, deformation.data());
     }
     PlasticReturnTotals returnNow() {
         poolNow();
         return capReturnPass(law, model.particles.radius.data(), state());
     }
-    bool hasF(std::size_t q) const {
-        double f[9];
-        return deformationFromMoments(moments.data(), q, f);
-    }
+    bool hasF(std::size_t q) const { return deformation[9 * q] != 0.0 || deformation[9 * q + 1] != 0.0; }
 };
 
 /// The trial stress of an affine F on a virgin particle (P3–P4).
@@ -97,8 +91,8 @@ TEST(PlasticFlow, AnAffineDeformationHasItsExactGradientAtEveryPoolingDepth) {
         fx.poolNow();
         std::size_t with = 0;
         for (std::size_t q = 0; q < fx.model.particles.size(); ++q) {
-            double f[9];
-            if (!deformationFromMoments(fx.moments.data(), q, f)) continue;
+            if (!fx.hasF(q)) continue;
+            const double* f = fx.deformation.data() + 9 * q;
             ++with;
             for (int k = 0; k < 9; ++k) {
                 ASSERT_NEAR(f[k], expected(k / 3, k % 3), 1e-13) << "particle " << q << ", rings " << rings;

@@ -309,7 +309,7 @@ std::vector<std::string> everyKeyScenes() {
                                 {"material", "[material]\ncalibration = \"" + calibration + "\"\n"},
                                 {"densification", "[densification]\ncalibration = \"" + calibration + "\"\n"},
                                 {"coupling", "[coupling]\nthickness = 0.0015\nbox = 0.026\n"}}),
-        // Plasticity excludes densification and coupling: a custom law with each hardening; the preset with the
+        // Plasticity excludes densification: a custom law with each hardening; the preset with the
         // calibration's elastic law.
         sceneOf(kEverySection,
                 {{"effects", "[effects]\nlist = [\"damping\", \"plasticity\", \"indenter\", \"fracture\"]\n"},
