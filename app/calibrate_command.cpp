@@ -60,8 +60,10 @@ std::string exact(double x) {
     return s;
 }
 
+} // namespace
+
 /// Runs the `run` driver in-process with its log swallowed (the summary line included); returns summary.json.
-nlohmann::json runQuietly(const RunOptions& run) {
+nlohmann::json runSceneQuietly(const RunOptions& run) {
     std::ostringstream quiet_log;
     auto* previous = std::cout.rdbuf(quiet_log.rdbuf());
     try {
@@ -74,13 +76,16 @@ nlohmann::json runQuietly(const RunOptions& run) {
     return readJson(fs::path(run.out_dir) / "summary.json");
 }
 
-} // namespace
+
+std::string readTextFile(const std::string& path) { return readText(path); }
+
+std::string shortestText(double x) { return exact(x); }
 
 int calibrateElastic(const CalibrateOptions& o) {
     using Clock = std::chrono::steady_clock;
     std::ostream& log = std::cout;
     const Scene base = readScene(o.scene, o.overrides);
-    if (!base.measure.uniaxial) {
+    if (!base.measure.uniaxial()) {
         throw InputError(o.scene + ": the calibration needs a tensile test scene with [measure] kind = \"uniaxial\"");
     }
     if (base.sample.lattice != Lattice::Random) {
@@ -113,7 +118,7 @@ int calibrateElastic(const CalibrateOptions& o) {
                 run.overrides.push_back("material.beam_young_modulus=" + tag(young));
                 run.overrides.push_back("sample.file=\"" + cache + "\"");
                 const auto t0 = Clock::now();
-                const nlohmann::json m = runQuietly(run)["measurements"];
+                const nlohmann::json m = runSceneQuietly(run)["measurements"];
                 CalibrationRecord rec;
                 rec.seed = seed;
                 rec.sample = {ratio, young, m["young_modulus_GPa"].get<double>(), m["poisson_ratio"].get<double>()};
@@ -250,7 +255,7 @@ public:
             const bool reuse = fs::exists(done) && fs::exists(fs::path(run.out_dir) / "resolved_scene.toml") &&
                                readText((fs::path(run.out_dir) / "resolved_scene.toml").string()) ==
                                    resolvedSceneToml(readScene(run.scene_path, run.overrides));
-            const nlohmann::json m = (reuse ? readJson(done) : runQuietly(run))["measurements"];
+            const nlohmann::json m = (reuse ? readJson(done) : runSceneQuietly(run))["measurements"];
             PressurePoint pt;
             pt.pressure = m["pressure_GPa"].get<double>();
             pt.in_situ = m["in_situ_volume_change"].get<double>();
@@ -499,7 +504,7 @@ int calibrateDensification(const DensificationCalibrateOptions& o) {
             << "\"   # residual volume change of the whole hull, or of the interior (>= 2 mean radii deep)\n";
     // Only a converged result goes into the file scenes read; otherwise it stays beside the history.
     const std::string target = converged ? output : (fs::path(o.out_dir) / "not-converged.toml").string();
-    const std::string text = withDensificationSection(calibration_text, section.str(), target);
+    const std::string text = withCommandSection(calibration_text, section.str(), target);
     if (fs::path(target).has_parent_path()) {
         fs::create_directories(fs::path(target).parent_path());
     }

@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "app/run_command.hpp"
+
 namespace vitrum {
 
 struct CalibrateOptions {
@@ -52,5 +56,35 @@ struct DensificationCalibrateOptions {
 };
 
 int calibrateDensification(const DensificationCalibrateOptions& options);
+
+/// `vitrum calibrate plasticity` (app/calibrate_plasticity.cpp): the particle cap law's elastic metric and
+/// q_y, R from the virtual tests of `scenes`, written as the [plasticity] section of the calibration file, then
+/// checked against every acceptance target on another packing.
+struct PlasticityCalibrateOptions {
+    std::string scenes = "examples/virtual-tests";
+    std::string law = "bruns2020";      ///< the published law whose targets are fitted
+    std::uint64_t seed = 1;             ///< the packing of the fit
+    std::uint64_t check_seed = 2;       ///< the packing of the acceptance (0: none)
+    std::vector<std::string> overrides; ///< --set for every run
+    std::string out_dir = "out/plasticity-calibration";
+    std::string output;                 ///< calibration file to write; "" = the scenes' [material] calibration
+    int threads = 0;
+    int iterations = 4;                 ///< Gauss–Newton steps at most
+    double tolerance = 0.03;            ///< rms relative miss of the yield targets that ends the fit
+    double metric_pressure = 25.0;      ///< GPa: the equation of state is fitted up to it
+    std::vector<double> check_pressures = {7.2, 8, 10, 12, 14, 16, 18, 20, 25}; ///< GPa, hydrostatic acceptance
+    std::string command_line;
+};
+
+int calibratePlasticity(const PlasticityCalibrateOptions& options);
+
+/// Runs the `run` driver in-process with its log swallowed; returns its summary.json.
+nlohmann::json runSceneQuietly(const RunOptions& run);
+
+/// The whole text of a file (InputError naming it when it cannot be read).
+std::string readTextFile(const std::string& path);
+
+/// The shortest text that reads back as x exactly (what a --set override or a calibration value needs).
+std::string shortestText(double x);
 
 } // namespace vitrum

@@ -173,6 +173,37 @@ int main(int argc, char** argv) {
 
     vitrum::DensificationCalibrateOptions densify;
     bool no_sensitivity = false;
+    vitrum::PlasticityCalibrateOptions plastic;
+    CLI::App* plastic_cmd = calibrate_cmd->add_subcommand(
+        "plasticity",
+        "Virtual tests (examples/virtual-tests, the run driver in-process) to fit the plasticity effect's particle "
+        "law: its elastic metric (Murnaghan K0, K' and G on the strain the law judges) and the cap's q_y and R "
+        "for a published law's yield targets (shear, uniaxial, oedometric, triaxial 2/4/6 GPa); writes the "
+        "[plasticity] section of the calibration file, then runs the acceptance tests on another packing and "
+        "writes acceptance.json. Never uses an indentation. Exit 0 when written, 2 on bad input.");
+    plastic_cmd->add_option("--scenes", plastic.scenes, "Directory of the virtual-test scenes")->capture_default_str();
+    plastic_cmd->add_option("--law", plastic.law, "Published law whose targets are fitted")
+        ->capture_default_str()->check(CLI::IsMember({"bruns2020", "kermouche2008", "molnar2017"}));
+    plastic_cmd->add_option("--seed", plastic.seed, "Packing seed of the fit")->capture_default_str();
+    plastic_cmd->add_option("--check-seed", plastic.check_seed, "Packing seed of the acceptance (0: none)")
+        ->capture_default_str();
+    plastic_cmd->add_option("--set", plastic.overrides, "Override a key of every virtual-test scene");
+    plastic_cmd->add_option("--iterations", plastic.iterations, "Gauss-Newton steps of the cap fit at most")
+        ->capture_default_str()->check(CLI::Range(0, 50));
+    plastic_cmd->add_option("--tolerance", plastic.tolerance, "rms relative miss of the yield targets that ends the fit")
+        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+    plastic_cmd->add_option("--metric-pressure", plastic.metric_pressure,
+                            "Fit the equation of state up to this pressure (GPa)")
+        ->capture_default_str()->check(kPositive);
+    plastic_cmd->add_option("--check-pressures", plastic.check_pressures, "Hydrostatic acceptance pressures (GPa)")
+        ->delimiter(',')->capture_default_str();
+    plastic_cmd->add_option("--out", plastic.out_dir, "Directory for the runs, packings and acceptance.json")
+        ->capture_default_str();
+    plastic_cmd->add_option("--output", plastic.output,
+                            "Calibration file to write the [plasticity] section into (default: the scenes' "
+                            "[material] calibration)");
+    plastic_cmd->add_option("--threads", plastic.threads, "OpenMP threads")->check(kAtLeastOne);
+
     CLI::App* densify_cmd = calibrate_cmd->add_subcommand(
         "densification",
         "Hydrostatic sphere tests (the run driver, in-process) to find the spring-slider's sigma_mu^d, E_mu^t, "
@@ -246,7 +277,8 @@ int main(int argc, char** argv) {
         }
         return endRanks(2, false);
     }
-    for (const int threads : {run.threads, measure.threads, pack.threads, calibrate.threads, densify.threads}) {
+    for (const int threads : {run.threads, measure.threads, pack.threads, calibrate.threads, densify.threads,
+                              plastic.threads}) {
         warnAboutThreads(threads);
     }
     try {
@@ -276,6 +308,12 @@ int main(int argc, char** argv) {
                 calibrate.command_line += (k ? " " : "") + std::string(argv[k]);
             }
             return endRanks(vitrum::calibrateElastic(calibrate), false);
+        }
+        if (plastic_cmd->parsed()) {
+            for (int k = 0; k < argc; ++k) {
+                plastic.command_line += (k ? " " : "") + std::string(argv[k]);
+            }
+            return endRanks(vitrum::calibratePlasticity(plastic), false);
         }
         if (densify_cmd->parsed()) {
             for (int k = 0; k < argc; ++k) {

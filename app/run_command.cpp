@@ -222,6 +222,10 @@ LoopEnd timeLoop(Loop& l, long first) {
         }
         if (n % l.scene.output.every == 0 || n == steps) {
             record(n);
+            if (l.recorder.finished()) {
+                if (map_every > 0) l.maps.write(l.model, l.effects, n, l.ctx.time);
+                break; // the measurement is complete (material_test: the sample flows)
+            }
             keepGoodState(n);
             observeCracks(n);
             if (l.verbose) progress.update(n, l.recorder.progressText());
@@ -430,6 +434,11 @@ int runScene(const RunOptions& options) {
         Model& m = ranked ? whole.model : model;
         Effects& fx = ranked ? whole.effects : effects;
         nlohmann::ordered_json measurements;
+        if (const MaterialTestGauge* gauge = recorder->materialTest()) { // one process only (refused on ranks)
+            series->flush(); // the whole history, rows before a restart included
+            measurements["material_test"] =
+                materialTestResult(*gauge, readSeries((out / "series.csv").string()), scene.measure.offset);
+        }
         if (fx.indenter) {
             measureIndentation(scene, m, fx, out, measurements, cracks ? &*cracks : nullptr);
             if (cracks) measurements["crack_snapshots"] = cracks->json();

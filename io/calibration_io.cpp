@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 #include <toml++/toml.h>
 
@@ -144,30 +145,92 @@ CalibrationFile readCalibration(const std::string& path) {
         }
         f.densification = d;
     }
+    if (root.contains("plasticity")) {
+        PlasticityCalibration c;
+        c.bulk = requireNumber(root, "plasticity.bulk_modulus", path);
+        c.bulk_slope = requireNumber(root, "plasticity.bulk_modulus_slope", path);
+        c.shear = requireNumber(root, "plasticity.shear_modulus", path);
+        within(c.bulk, "plasticity.bulk_modulus", 0.0, kHuge, true, true, "a finite number > 0 (GPa)");
+        within(c.bulk_slope, "plasticity.bulk_modulus_slope", 0.0, 20.0, false, true, "a number in [0, 20)");
+        within(c.shear, "plasticity.shear_modulus", 0.0, kHuge, true, true, "a finite number > 0 (GPa)");
+        if (const auto law = root["plasticity"]["law"].value<std::string>()) {
+            c.law = *law;
+            c.shear_limit = requireNumber(root, "plasticity.shear_limit", path);
+            c.cap_ratio = requireNumber(root, "plasticity.cap_ratio", path);
+            within(c.shear_limit, "plasticity.shear_limit", 0.0, kHuge, true, true, "a finite number > 0 (GPa)");
+            within(c.cap_ratio, "plasticity.cap_ratio", 0.0, kHuge, true, true, "a finite number > 0");
+        }
+        f.plasticity = c;
+    }
     return f;
 }
 
 const char* const kDensificationSectionMarker =
     "# --- densification (vitrum calibrate densification; it replaces everything from this line on) ---";
+const char* const kPlasticitySectionMarker =
+    "# --- plasticity (vitrum calibrate plasticity; it replaces everything from this line on) ---";
 
-std::string withDensificationSection(const std::string& text, const std::string& section, const std::string& path) {
-    std::string head = text;
-    if (const std::size_t at = text.find(kDensificationSectionMarker); at != std::string::npos) {
-        head = text.substr(0, at);
-    }
-    std::istringstream lines(head);
-    for (std::string line; std::getline(lines, line);) {
-        const std::size_t start = line.find_first_not_of(" \t");
-        if (start != std::string::npos && line.compare(start, 15, "[densification]") == 0) {
-            throw InputError(path + ": calibration file: a [densification] table that vitrum calibrate "
-                                    "densification did not write (no marker line); remove it, then run the "
-                                    "command again");
+namespace {
+/// A line that opens a command's section: "# --- NAME (vitrum calibrate ...".
+bool isSectionMarker(const std::string& line) { return line.rfind("# --- ", 0) == 0; }
+} // namespace
+
+std::string withCommandSection(const std::string& text, const std::string& section, const std::string& path) {
+    const std::string marker = section.substr(0, section.find('\n'));
+    // The table the section owns: the first "[name]" line after its marker.
+    std::string table;
+    {
+        std::istringstream lines(section);
+        for (std::string line; std::getline(lines, line);) {
+            if (!line.empty() && line[0] == '[') {
+                table = line.substr(0, line.find(']') + 1);
+                break;
+            }
         }
     }
-    while (!head.empty() && (head.back() == '\n' || head.back() == ' ')) {
-        head.pop_back();
+    // Split the text into the head (no command section) and the command sections, each from its marker to
+    // the next marker; drop the one this command owns.
+    std::string head;
+    std::vector<std::string> kept;
+    std::string* into = &head;
+    bool dropping = false;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        if (isSectionMarker(line)) {
+            dropping = line == marker;
+            kept.emplace_back();
+            into = &kept.back();
+        }
+        if (!dropping) {
+            *into += line + "\n";
+        }
     }
-    return head + "\n\n" + section;
+    std::istringstream head_lines(head);
+    for (std::string line; std::getline(head_lines, line);) {
+        const std::size_t start = line.find_first_not_of(" \t");
+        if (!table.empty() && start != std::string::npos && line.compare(start, table.size(), table) == 0) {
+            throw InputError(path + ": calibration file: a " + table + " table that vitrum calibrate did not write "
+                                    "(no marker line); remove it, then run the command again");
+        }
+    }
+    auto trimmed = [](std::string t) {
+        while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) {
+            t.pop_back();
+        }
+        return t;
+    };
+    std::string out = trimmed(head);
+    for (const std::string& k : kept) {
+        if (!trimmed(k).empty()) {
+            out += "\n\n" + trimmed(k);
+        }
+    }
+    std::string tail = section;
+    while (!tail.empty() && tail.back() == '\n') {
+        tail.pop_back();
+    }
+    return out + "\n\n" + tail + "\n";
 }
+
 
 } // namespace vitrum

@@ -84,4 +84,40 @@ void SeriesWriter::flush() {
         throw RuntimeFailure("write to '" + path_ + "' failed: " + std::strerror(errno));
 }
 
+std::map<std::string, std::vector<double>> readSeries(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) {
+        throw RuntimeFailure("cannot read '" + path + "': " + std::strerror(errno));
+    }
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> names;
+    {
+        std::istringstream header(line);
+        for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+    }
+    std::map<std::string, std::vector<double>> columns;
+    for (const std::string& name : names) columns[name];
+    long number = 1;
+    while (std::getline(in, line)) {
+        ++number;
+        std::istringstream fields(line);
+        std::size_t c = 0;
+        for (std::string field; std::getline(fields, field, ','); ++c) {
+            char* end = nullptr;
+            const double v = std::strtod(field.c_str(), &end);
+            if (c >= names.size() || end == field.c_str()) {
+                throw RuntimeFailure(path + ":" + std::to_string(number) + ": not a row of the header's " +
+                                     std::to_string(names.size()) + " numbers");
+            }
+            columns[names[c]].push_back(v);
+        }
+        if (c != names.size()) {
+            throw RuntimeFailure(path + ":" + std::to_string(number) + ": " + std::to_string(c) + " values for " +
+                                 std::to_string(names.size()) + " columns");
+        }
+    }
+    return columns;
+}
+
 } // namespace vitrum

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
@@ -11,6 +12,10 @@ namespace vitrum {
 
 /// CSV time series. Column names carry their unit (e.g. "time_ns", "force_N"); values are printed with
 /// %.10g. Throws RuntimeFailure if the file cannot be opened or written, or a row has the wrong length.
+/// The columns of a series.csv by name (numbers as written), for the measurements that read a run's history
+/// back (the material test). Throws RuntimeFailure when the file cannot be read or a row is malformed.
+std::map<std::string, std::vector<double>> readSeries(const std::string& path);
+
 class SeriesWriter {
 public:
     SeriesWriter(const std::string& path, std::vector<std::string> columns);

@@ -1,7 +1,7 @@
 // Cap plasticity of silica: a flat shear limit and an elliptic, hardening, saturating cap in the (p, q)
 // plane, with its return map (issue 26; reference note ../shared/reference/silica-plasticity.md, "The
 // published laws"). The law of a particle's stress; what it returns (a plastic strain increment) moves the
-// rest state of the particle's bonds (kernels/rest_state.hpp). Not yet an effect.
+// rest state of the particle's bonds (kernels/rest_state.hpp, kernels/plastic_flow.hpp).
 //
 // Notation (the reference note's): p = −tr σ/3 (compression positive), s = σ + p I, q = √(3/2 s:s), e the
 // plastic volumetric log-strain (compaction positive), Δρ/ρ = exp(e) − 1. Stresses and moduli in GPa.
@@ -32,19 +32,29 @@
 //   linear (Kermouche 2008): p_b(e) = p_b0 + H e for e < e_sat = ln(1 + d_s); at e_sat the cap is removed
 //     (p_b = ∞): a pressure-elastic, shear-plastic material from then on.
 //
-// Return map (backward Euler, associated flow, isotropic elastic metric K, G): from a trial stress
+// Elastic metric (ElasticMetric): the particle's elastic law in the invariants, with v = −ln J_e the elastic
+// volumetric log-strain (compression positive) and G constant,
+//   p(v) = (K₀/K′) (exp(K′ v) − 1)          Murnaghan's equation of state, p = (K₀/K′)(J_e^(−K′) − 1)     (M1)
+//   K(v) = dp/dv = K₀ exp(K′ v);   K′ = 0: p = K₀ v
+// A bonded network stiffens under pressure (measured on the 2 000-particle sphere of the calibrated silica:
+// K₀ 43.1 GPa, K′ 1.22 reproduce its interior p(J) from 2 to 25 GPa to 0.03 GPa, where the linear law on
+// Green–Lagrange strain reads 9.1 GPa at 14 GPa applied); the return must see the pressure the bonds carry.
+// The plastic compaction Δe lowers v by Δe exactly (v = −ln J − e), so the return's pressure is p(v_tr − Δe).
+//
+// Return map (backward Euler, associated flow, elastic metric (M1) and G): from a trial stress
 // (p_tr, q_tr) and the state e_n,
 //   shear line (p_tr ≤ p_a(e_n), F_s > 0): radial return, p = p_tr, q = q_y, Δγ̄ = (q_tr − q_y)/(3G), Δe = 0
 //     (exact: no hardening in shear, silica micro-pillars flow without hardening, Kermouche 2016);
 //   cap (p_tr > p_a(e_n), F_c > 0): on the converged cap ρ = R q_y, so with μ = Δλ/(R q_y) and
 //     x = p − p_a(e) the conditions are
-//       p = p_tr − K Δe,  Δe = μ x,  q = q_tr/(1 + 3 G R² μ),  x² + (R q)² = (R q_y)²                   (R1)
-//     one equation g(Δe) = x² + (R q)² − (R q_y)² = 0 in Δe, with x = p_tr − K Δe − p_b(e_n + Δe) + R q_y
-//     and μ = Δe/x. On x > 0, x falls and μ rises with Δe (K > 0, p_b non-decreasing), so g falls strictly
+//       p = p(v_tr − Δe),  Δe = μ x,  q = q_tr/(1 + 3 G R² μ),  x² + (R q)² = (R q_y)²                 (R1)
+//     (p = p_tr − K Δe for K′ = 0), one equation g(Δe) = x² + (R q)² − (R q_y)² = 0 in Δe, with
+//     x = p(v_tr − Δe) − p_b(e_n + Δe) + R q_y and μ = Δe/x. On x > 0, x falls and μ rises with Δe (K(v) > 0,
+//     p_b non-decreasing), so g falls strictly
 //     from g(0) > 0 to −(R q_y)² at x → 0⁺: one root, found by Newton's method safeguarded by bisection to
 //     round-off. This is the exact closest point, not the note's one linearised step (which it is the
 //     Newton iteration of); it needs no relaxation however curved the cap.
-//   The increments: Δe = (p_tr − p)/K, Δγ̄ = (q_tr − q)/(3G), and the plastic strain tensor
+//   The increments: Δe (the root), Δγ̄ = (q_tr − q)/(3G), and the plastic strain tensor
 //       Δε^p = −(Δe/3) I + (3/2) Δγ̄ s/q                                                                  (R2)
 //     (tension positive, tensor shear components), s/q = s_tr/q_tr (the return is radial in the deviator).
 //     The dissipation is σ : Δε^p = p Δe + q Δγ̄.
@@ -53,7 +63,8 @@
 //
 // Validity: small elastic strains (the trial stress is the elastic predictor of the step); isotropic
 // elasticity with the packing's K and G; the sigmoid's p_b is representable up to P_s ln(A/ε) ≈ 76 GPa
-// (beyond, y rounds to 1 and the cap counts as saturated: hydrostatic hardening stops there); no friction
+// (beyond, y rounds to 1 and the cap counts as saturated: hydrostatic hardening stops there); (M1) needs
+// p > −K₀/K′ (tension below K₀/K′ ≈ 35 GPa: fracture comes long before); no friction
 // (β = 0) and no tension cut-off (tension is the fracture effect's). Plain doubles, no allocation, no
 // exception, no virtual call: compiles for a device as is.
 #pragma once
@@ -114,6 +125,28 @@ struct CapHardening {
         }
         // d/de [P_s (ln y − ln(1 − y))] = P_s/(y (1 − y)) · dy/de,  dy/de = exp(e)/d_s
         return sigmoid_pressure / (y * (1.0 - y)) * std::exp(e) / saturation;
+    }
+};
+
+/// The particle's elastic law in the cap's invariants (file header, M1). K′ = 0 is the linear law p = K₀ v.
+struct ElasticMetric {
+    double bulk = 0.0;       ///< K₀, GPa: the bulk modulus at zero pressure
+    double bulk_slope = 0.0; ///< K′ = dK/dp at zero pressure (≥ 0)
+    double shear = 0.0;      ///< G, GPa
+
+    /// p(v) of the elastic volumetric log-strain v = −ln J_e (M1), GPa.
+    double pressure(double v) const noexcept {
+        return bulk_slope == 0.0 ? bulk * v : bulk / bulk_slope * std::expm1(bulk_slope * v);
+    }
+    /// K(v) = dp/dv, GPa.
+    double tangent(double v) const noexcept { return bulk_slope == 0.0 ? bulk : bulk * std::exp(bulk_slope * v); }
+    /// v(p), the inverse of pressure (p > −K₀/K′).
+    double strain(double p) const noexcept {
+        return bulk_slope == 0.0 ? p / bulk : std::log1p(bulk_slope * p / bulk) / bulk_slope;
+    }
+    /// p after a compaction Δe from the trial (p_tr, v_tr = strain(p_tr)): p(v_tr − Δe); p_tr − K₀ Δe when linear.
+    double pressureAfter(double p_tr, double v_tr, double de) const noexcept {
+        return bulk_slope == 0.0 ? p_tr - bulk * de : pressure(v_tr - de);
     }
 };
 
@@ -198,8 +231,15 @@ struct CapPlasticity {
         return std::sqrt(x * x + rq * rq) - cap_ratio * shear_limit;
     }
 
-    /// The return map of (p_tr, q_tr) from state `old` with bulk and shear moduli K, G (GPa).
+    /// The return map of (p_tr, q_tr) from state `old` with the linear metric of bulk and shear moduli K, G (GPa).
     CapReturn returnMap(double p_tr, double q_tr, const CapState& old, double bulk, double shear) const noexcept {
+        return returnMap(p_tr, q_tr, old, ElasticMetric{bulk, 0.0, shear});
+    }
+
+    /// The return map of (p_tr, q_tr) from state `old` with the elastic metric `m` (M1).
+    CapReturn returnMap(double p_tr, double q_tr, const CapState& old, const ElasticMetric& m) const noexcept {
+        const double shear = m.shear;
+        const double v_tr = m.strain(p_tr);
         CapReturn r;
         r.state = old;
         r.pressure = p_tr;
@@ -222,7 +262,8 @@ struct CapPlasticity {
             };
             auto eval = [&](double de) {
                 const double e = e_n + de;
-                const double x = p_tr - bulk * de - hardening.capPressure(e) + rqy;
+                const double x = m.pressureAfter(p_tr, v_tr, de) - hardening.capPressure(e) + rqy;
+                const double bulk = m.tangent(v_tr - de);
                 if (!(x > 0.0)) { // past x = 0 (or p_b = ∞): the limit value of g, decreasing
                     return Eval{-rqy * rqy, -bulk, x, 0.0};
                 }
@@ -241,7 +282,7 @@ struct CapPlasticity {
                 // The root lies past saturation: the cap takes the increment up to e_sat, then it is gone.
                 r.saturated = true;
                 r.d_compaction = hi;
-                r.pressure = p_tr - bulk * hi;
+                r.pressure = m.pressureAfter(p_tr, v_tr, hi);
                 r.von_mises = std::min(at_hi.q, shear_limit);
             } else {
                 // Newton from the linearised step's start (Δe = 0), kept inside the bracket [lo, hi] where
@@ -271,7 +312,7 @@ struct CapPlasticity {
                     now = eval(de);
                 }
                 r.d_compaction = de;
-                r.pressure = p_tr - bulk * de;
+                r.pressure = m.pressureAfter(p_tr, v_tr, de);
                 r.von_mises = now.q;
                 if (!(now.x > 0.0)) {
                     // The root sits where the sigmoid's p_b leaves the doubles (1 − y rounds to 0, p_b ≈ 76 GPa
@@ -291,9 +332,14 @@ struct CapPlasticity {
     /// The return map of a full trial stress (xx yy zz xy yz xz, tension positive): stress after the
     /// return and the plastic strain increment (R2).
     CapTensorReturn returnMap(const double* trial, const CapState& old, double bulk, double shear) const noexcept {
+        return returnMap(trial, old, ElasticMetric{bulk, 0.0, shear});
+    }
+
+    /// The same with the elastic metric `m` (M1).
+    CapTensorReturn returnMap(const double* trial, const CapState& old, const ElasticMetric& m) const noexcept {
         CapTensorReturn t;
         const StressInvariants inv = stressInvariants(trial);
-        t.invariants = returnMap(inv.pressure, inv.von_mises, old, bulk, shear);
+        t.invariants = returnMap(inv.pressure, inv.von_mises, old, m);
         const CapReturn& r = t.invariants;
         // s_tr/q_tr is the flow direction and the deviator's direction after the return; a hydrostatic
         // trial (q_tr = 0) has no deviatoric flow.

@@ -1,5 +1,8 @@
 #include "kernels/plastic_flow.hpp"
 
+#include <algorithm>
+#include <vector>
+
 #include <cmath>
 #include <numbers>
 
@@ -15,21 +18,6 @@ namespace {
 using Mat3 = Eigen::Matrix3d;
 
 bool intact(const RestStateView& b, std::int32_t bond) { return !b.broken || !b.broken[bond]; }
-
-Mat3 loadMat(const double* a, std::size_t p) {
-    Mat3 m;
-    for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-            m(r, c) = a[9 * p + 3 * r + c];
-        }
-    }
-    return m;
-}
-
-bool exists(const double* a, std::size_t p) {
-    // deformationGradients writes zeros where F does not exist; an existing F has det F > 0, so a non-zero row.
-    return a[9 * p] != 0.0 || a[9 * p + 1] != 0.0 || a[9 * p + 2] != 0.0;
-}
 
 /// The 6 components (xx yy zz xy yz xz) of a symmetric matrix, and back.
 void toVoigt(const Mat3& m, double* v) {
@@ -48,71 +36,138 @@ Mat3 fromVoigt(const double* v) {
 
 } // namespace
 
-void deformationGradients(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
-                          const double* current, double* deformation) {
-    parallelFor("plasticity.deformation", inc.n, [&](std::size_t p) {
-        Mat3 a = Mat3::Zero();
-        Mat3 b = Mat3::Zero();
+namespace {
+
+/// Σ over the intact bonds of p of f(dX, other) into `out` (width doubles per particle), in incidence order.
+template <int W, class F>
+void perParticleBondSum(const IncidenceView& inc, const RestStateView& bonds, const char* label, double* out, F f) {
+    parallelFor(label, inc.n, [&](std::size_t p) {
+        double sum[W] = {};
         for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
             const std::int32_t bond = inc.entry[k] >> 1;
             if (!intact(bonds, bond)) {
                 continue;
             }
-            const std::size_t other = static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
-            const Vec3 dX = load3(initial, other) - load3(initial, p);
-            const Vec3 dx = load3(current, other) - load3(current, p);
-            a += dX * dX.transpose();
-            b += dx * dX.transpose();
+            f(p, static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]), sum);
         }
-        // A well-spread neighbourhood has det(a) ≈ (tr a / 3)³; below 1e-6 of tr³ it is (nearly) coplanar.
-        const double scale = a.trace();
-        const bool spans = a.determinant() > 1e-6 * scale * scale * scale;
-        const Mat3 f = spans ? Mat3(b * a.inverse()) : Mat3::Zero();
-        for (int r = 0; r < 3; ++r) {
-            for (int c = 0; c < 3; ++c) {
-                deformation[9 * p + 3 * r + c] = f(r, c);
-            }
-        }
+        std::copy(sum, sum + W, out + W * p);
     });
 }
 
-PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const IncidenceView& inc, const RestStateView& bonds,
-                                  const double* radius, PlasticStateView s) {
-    const double* F = s.deformation;
-    return parallelReduce("plasticity.return", inc.n, PlasticReturnTotals{}, [&](std::size_t p,
+/// One ring of pooling (P2): out_i = in_i + Σ_j in_j over the intact bonded neighbours j, W columns.
+template <int W>
+void poolOnce(const IncidenceView& inc, const RestStateView& bonds, const double* in, double* out) {
+    parallelFor("plasticity.pool", inc.n, [&](std::size_t p) {
+        double sum[W];
+        std::copy(in + W * p, in + W * (p + 1), sum);
+        for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) { // in incidence order: deterministic
+            const std::int32_t bond = inc.entry[k] >> 1;
+            if (!intact(bonds, bond)) {
+                continue;
+            }
+            const std::size_t other = static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
+            for (int c = 0; c < W; ++c) {
+                sum[c] += in[W * other + c];
+            }
+        }
+        std::copy(sum, sum + W, out + W * p);
+    });
+}
+
+/// `rings` rings of pooling of `data` (W columns), `work` the other buffer; the result ends in `data`.
+template <int W>
+void pool(const IncidenceView& inc, const RestStateView& bonds, int rings, std::vector<double>& data,
+          std::vector<double>& work) {
+    for (int ring = 0; ring < rings; ++ring) {
+        poolOnce<W>(inc, bonds, data.data(), work.data());
+        data.swap(work);
+    }
+}
+
+} // namespace
+
+void referenceInverse(const IncidenceView& inc, const RestStateView& bonds, const double* initial, int rings,
+                      StrainWork& work) {
+    work.a.resize(6 * inc.n);
+    work.scratch.resize(9 * inc.n);
+    work.inverse.resize(9 * inc.n);
+    perParticleBondSum<6>(inc, bonds, "plasticity.reference", work.a.data(),
+                          [&](std::size_t p, std::size_t other, double* sum) {
+                              const Vec3 dX = load3(initial, other) - load3(initial, p);
+                              const Mat3 a = dX * dX.transpose();
+                              double v[6];
+                              toVoigt(a, v);
+                              for (int c = 0; c < 6; ++c) sum[c] += v[c];
+                          });
+    pool<6>(inc, bonds, rings, work.a, work.scratch);
+    parallelFor("plasticity.reference", inc.n, [&](std::size_t p) {
+        const Mat3 a = fromVoigt(work.a.data() + 6 * p);
+        const double scale = a.trace();
+        // A well-spread neighbourhood has det(a) ≈ (tr a / 3)³; below 1e-6 of tr³ it is (nearly) coplanar.
+        const Mat3 inverse = a.determinant() > 1e-6 * scale * scale * scale ? Mat3(a.inverse()) : Mat3(Mat3::Zero());
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) {
+                work.inverse[9 * p + 3 * r + c] = inverse(r, c);
+            }
+        }
+    });
+    work.a.resize(9 * inc.n); // the B moments' buffer from now on
+}
+
+void pooledDeformation(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
+                       const double* current, int rings, StrainWork& work, double* deformation) {
+    work.a.resize(9 * inc.n);
+    work.scratch.resize(9 * inc.n);
+    perParticleBondSum<9>(inc, bonds, "plasticity.moments", work.a.data(),
+                          [&](std::size_t p, std::size_t other, double* sum) {
+                              const Vec3 dX = load3(initial, other) - load3(initial, p);
+                              const Vec3 dx = load3(current, other) - load3(current, p);
+                              for (int r = 0; r < 3; ++r) {
+                                  for (int c = 0; c < 3; ++c) sum[3 * r + c] += dx[r] * dX[c];
+                              }
+                          });
+    pool<9>(inc, bonds, rings, work.a, work.scratch);
+    parallelFor("plasticity.gradient", inc.n, [&](std::size_t p) {
+        const Mat3 b = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.a.data() + 9 * p);
+        const Mat3 ainv = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.inverse.data() + 9 * p);
+        const Mat3 f = b * ainv; // (P2); zero where the pooled chords do not span 3D
+        Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(deformation + 9 * p) = f;
+    });
+}
+
+void trialStress(const ElasticMetric& metric, const double* g, const double* plastic_strain, double compaction,
+                 double* stress) noexcept {
+    const Mat3 f = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g);
+    const Mat3 green = 0.5 * (f.transpose() * f - Mat3::Identity()); // (P3)
+    double elastic[6];
+    toVoigt(green, elastic);
+    for (int k = 0; k < 6; ++k) {
+        elastic[k] -= plastic_strain[k];
+    }
+    const double mean = (elastic[0] + elastic[1] + elastic[2]) / 3.0;
+    const double p = metric.pressure(-std::log(f.determinant()) - compaction); // (P4)
+    for (int k = 0; k < 6; ++k) {
+        stress[k] = 2.0 * metric.shear * (elastic[k] - (k < 3 ? mean : 0.0)) - (k < 3 ? p : 0.0);
+    }
+}
+
+PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radius, PlasticStateView s) {
+    return parallelReduce("plasticity.return", s.n, PlasticReturnTotals{}, [&](std::size_t p,
                                                                                   PlasticReturnTotals& acc) {
         s.yielded[p] = 0;
         for (int k = 0; k < 6; ++k) {
             s.increment[6 * p + k] = 0.0;
         }
-        if (!exists(F, p)) {
-            return;
+        const double* g = s.deformation + 9 * p;
+        if (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0) {
+            return; // no F̄: the pooled chords do not span 3D (a zero inverse gives a zero row)
         }
-        Mat3 f = loadMat(F, p); // (P2): the particle's, plus its intact neighbours' where they exist
-        if (law.averaging) {
-            int count = 1;
-            for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
-                const std::int32_t bond = inc.entry[k] >> 1;
-                const std::size_t other =
-                    static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
-                if (intact(bonds, bond) && exists(F, other)) {
-                    f += loadMat(F, other);
-                    ++count;
-                }
-            }
-            f /= static_cast<double>(count);
-        }
-        const Mat3 green = 0.5 * (f.transpose() * f - Mat3::Identity()); // (P3)
-        double elastic[6];
-        toVoigt(green, elastic);
+        const Mat3 f = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g); // (P2)
         double* ep = s.plastic_strain + 6 * p;
-        for (int k = 0; k < 6; ++k) {
-            elastic[k] -= ep[k];
-        }
         double trial[6];
-        elasticStress(elastic, law.bulk, law.shear, trial); // (P4)
+        trialStress(law.metric, g, ep, s.compaction[p], trial); // (P3)-(P4)
         const CapTensorReturn r =
-            law.cap.returnMap(trial, CapState{s.compaction[p], s.plastic_shear[p]}, law.bulk, law.shear);
+            law.cap.returnMap(trial, CapState{s.compaction[p], s.plastic_shear[p]}, law.metric);
         if (!r.invariants.plastic) {
             return;
         }
@@ -142,7 +197,15 @@ void moveRestStates(const RestStateView& b, const PlasticStateView& s, const dou
         }
         double de[6];
         bondPlasticIncrement(s.increment + 6 * i, s.increment + 6 * j, de); // (S1)
-        const Vec3 chord = (load3(position, j) - load3(position, i)).normalized();
+        const Vec3 d = load3(position, j) - load3(position, i);
+        // (P6) Δε_i is pushed forward by the whole F; the rest state lives in the unloaded configuration,
+        // whose chord is l₀, not l: the bond takes (l/l₀)² Δε_b, the exact rest-length change of an affine
+        // field to first order (without it a bond compressed elastically by 8 % compacted 17 % too much).
+        const double stretch = d.squaredNorm() / (b.rest_length[k] * b.rest_length[k]);
+        for (double& c : de) {
+            c *= stretch;
+        }
+        const Vec3 chord = d.normalized();
         const BondRestState old{b.rest_length[k], load3(b.axis_i, k), load3(b.axis_j, k)};
         const BondRestState now =
             plasticRestState(old, de, loadQuat(orientation, i), loadQuat(orientation, j), chord); // (S2)

@@ -8,29 +8,43 @@
 // after averaging, CHANGELOG "Issue 26"). A return driven by that stress compacts them without end. The
 // strain-driven return below has no such loop: each particle carries its plastic strain E^p, and the stress
 // it judges is the elastic law of the strain its neighbourhood has,
-//   F_i = (Σ_b Δx_b ΔX_bᵀ)(Σ_b ΔX_b ΔX_bᵀ)⁻¹ over the intact bonds b of i                                   (P1)
-//   F̄_i = the mean of F over i and its intact bonded neighbours (averaging = neighbours), else F_i          (P2)
+//   A_i = Σ_b ΔX_b ΔX_bᵀ,  B_i = Σ_b Δx_b ΔX_bᵀ over the intact bonds b of i (initial, current chords)        (P1)
+//   pooled over k rings of intact bonded neighbours: A ← A_i + Σ_j A_j, B likewise, k times (k = 0, 1, 2)
+//   F̄_i = B A⁻¹: the least-squares gradient of the pooled bonds                                             (P2)
 //   E_i = ½ (F̄ᵀ F̄ − I)                         Green–Lagrange strain, initial frame                       (P3)
-//   S_tr = λ tr(E − E^p) I + 2 G (E − E^p),   λ = K − 2G/3                                                   (P4)
+//   S_tr = −p(v) I + 2 G dev(E − E^p),   v = −ln det F̄ − e                                                 (P4)
+//   with p(v) the metric's equation of state (cap_plasticity.hpp M1: Murnaghan's, fitted to the packing)
 // the cap's return of S_tr (kernels/cap_plasticity.hpp R1–R2) gives ΔE^p and the new (e, γ̄); E^p += ΔE^p.
 // After the return S = C:(E − E^p) is on the surface whatever the bonds do, so a prescribed load cannot drive
 // the particle past it: it compacts only as far as the hardening allows. With K, G the packing's calibrated
-// moduli, S is the macroscopic stress of a uniform deformation.
+// moduli and equation of state (vitrum calibrate plasticity fits them to the packing's virtual tests), S is
+// the macroscopic stress the bonds carry in a uniform deformation.
 //
 // The rest states then follow the spatial increment (the push-forward of a covariant strain):
 //   Δε_i = F̄⁻ᵀ ΔE^p F̄⁻¹                                                                                     (P5)
-// and every intact bond with a yielding end gets Δε_b = ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2).
+// and every intact bond with a yielding end gets Δε_b = ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2), taken in the
+// unloaded configuration: for the rest length l₀ of a bond of initial chord n₀ L, Δl₀/l₀ = n₀·ΔE^p·n₀ L²/l₀²,
+// while x̂·Δε_i·x̂ = n₀·ΔE^p·n₀ L²/l² along the current chord of length l, so the bond applies
+//   (l/l₀)² Δε_b                                                                                             (P6)
+//
+// Why pooled moments and not the mean of the neighbours' F: a hull particle's own bonds all point inwards and
+// carry the traction, so its own F is one-sided and noisy (3-bond particles: exactly determined); the mean of
+// F gives it a weight 1/(1 + neighbours) whatever its bond count. Pooling weights every bond alike. Measured on
+// the 2 000-particle sphere at 3 GPa (elastic): the equivalent deviatoric strain of the 440 hull particles has
+// its 95th percentile at 0.096 (mean of F), 0.026 (one ring), 0.016 (two rings), and silica's shear limit is
+// at 0.081; the one-particle runaway of a mean-of-F return started there (CHANGELOG, issue 26).
 //
 // Units: strains dimensionless, K, G and stresses GPa, lengths µm; the dissipation Ω σ:ΔE^p in GPa·µm³ = nJ.
 // Validity: small elastic strains (the linear law P4 on E − E^p; the cap law's own note); the additive split
 // of Green–Lagrange strains is exact to first order in E^p (|E^p| ≲ 0.07 at silica's saturation); a
 // particle with fewer than three non-coplanar intact bonds has no strain (it stays elastic and its bonds are
-// not moved by its own increment). Deterministic: every pass is per particle or per bond, and the totals
+// not moved by its own increment). Every affine field is reproduced exactly by any pooling depth. Deterministic: every pass is per particle or per bond, and the totals
 // are chunked sums (kernels/parallel.hpp).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "kernels/cap_plasticity.hpp"
 #include "kernels/views.hpp"
@@ -44,7 +58,7 @@ struct PlasticStateView {
     double* compaction = nullptr;     ///< n, e
     double* plastic_shear = nullptr;  ///< n, γ̄
     double* plastic_work = nullptr;   ///< n, Σ S:ΔE^p, GPa
-    double* deformation = nullptr;    ///< 9n work: F_i (P1), row-major; 0 where it does not exist
+    const double* deformation = nullptr; ///< 9n: F̄ (P2), row-major; zeros where it does not exist
     double* increment = nullptr;      ///< 6n work: Δε_i of the last return (P5), spatial frame
     std::uint8_t* yielded = nullptr;  ///< n work: 1 when the particle flowed in the last return
 };
@@ -63,9 +77,8 @@ struct RestStateView {
 /// The law and elastic metric of the return.
 struct PlasticFlowLaw {
     CapPlasticity cap;
-    double bulk = 0.0;                ///< K, GPa
-    double shear = 0.0;               ///< G, GPa
-    bool averaging = true;            ///< P2 with the neighbours
+    ElasticMetric metric;             ///< K₀, K′, G of (P4)
+    int rings = 2;                    ///< pooling depth of P2 (0: the particle's own bonds)
     double volume_factor = 1.0;       ///< Ω_i = volume_factor · 4/3 π R_i³ (1/φ of the packing)
 };
 
@@ -80,28 +93,35 @@ struct PlasticReturnTotals {
     }
 };
 
-/// F_i (P1) of every particle into state.deformation, over its intact bonds; `initial` and `current` are 3n
-/// positions, µm. A row of zeros where the intact bonds do not span 3D.
-void deformationGradients(const IncidenceView& incidence, const RestStateView& bonds, const double* initial,
-                          const double* current, double* deformation);
+/// Work arrays of the pooled strain: the inverse of the pooled reference moments (9n), rebuilt only when the
+/// intact bonds change, and the buffers of the current moments and of the pooling.
+struct StrainWork {
+    std::vector<double> inverse; ///< 9n: (Σ ΔX ΔXᵀ pooled)⁻¹, row-major, zeros where the chords do not span 3D
+    std::vector<double> a;       ///< 9n buffer
+    std::vector<double> scratch; ///< 9n buffer
+};
 
-/// The return of every particle (P2–P5): updates E^p, e, γ̄, the plastic work, and writes the spatial
-/// increment and the yielded flag. Needs state.deformation from deformationGradients.
-PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const IncidenceView& incidence,
-                                  const RestStateView& bonds, const double* radius, PlasticStateView state);
+/// A_i = Σ ΔX ΔXᵀ over the intact bonds of i (P1), pooled over `rings` rings (P2), inverted into
+/// work.inverse (zeros where det A is below 1e-6 of (tr A)³, i.e. the chords are nearly coplanar).
+void referenceInverse(const IncidenceView& incidence, const RestStateView& bonds, const double* initial, int rings,
+                      StrainWork& work);
+
+/// F̄_i = (Σ Δx ΔXᵀ pooled) A⁻¹ of every particle (P1–P2) into `deformation` (9n, row-major; zeros where A⁻¹
+/// is), with work.inverse from referenceInverse on the same intact bonds; `initial`, `current` 3n, µm.
+void pooledDeformation(const IncidenceView& incidence, const RestStateView& bonds, const double* initial,
+                       const double* current, int rings, StrainWork& work, double* deformation);
+
+/// The return of every particle (P3–P5) on state.deformation: updates E^p, e, γ̄, the plastic work, and writes
+/// the spatial increment and the yielded flag.
+PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, const double* radius, PlasticStateView state);
 
 /// Moves the rest state of every intact bond with a yielded end by ½ (Δε_i + Δε_j) (rest_state.hpp S1–S2),
 /// with the ends' current orientations (4n) and positions (3n).
 void moveRestStates(const RestStateView& bonds, const PlasticStateView& state, const double* orientation,
                     const double* position);
 
-/// The elastic law (P4): the stress of an elastic Green–Lagrange strain `elastic` (6 components), GPa.
-inline void elasticStress(const double* elastic, double bulk, double shear, double* stress) noexcept {
-    const double lambda = bulk - 2.0 * shear / 3.0;
-    const double trace = elastic[0] + elastic[1] + elastic[2];
-    for (int k = 0; k < 6; ++k) {
-        stress[k] = 2.0 * shear * elastic[k] + (k < 3 ? lambda * trace : 0.0);
-    }
-}
+/// The trial stress (P4) of a particle: F̄ (9, row-major), its E^p (6) and e; xx yy zz xy yz xz, GPa.
+void trialStress(const ElasticMetric& metric, const double* f, const double* plastic_strain, double compaction,
+                 double* stress) noexcept;
 
 } // namespace vitrum

@@ -54,12 +54,17 @@ template <> struct EnumNames<SampleShape> {
     static constexpr std::array<std::string_view, 4> names = {"box", "cylinder", "sphere", "hemisphere"};
 };
 
-enum class BoundaryKind { Fixed, Velocity, Displacement };
+enum class BoundaryKind { Fixed, Velocity, Displacement, Strain };
 template <> struct EnumNames<BoundaryKind> {
-    static constexpr std::array<std::string_view, 3> names = {"fixed", "velocity", "displacement"};
+    static constexpr std::array<std::string_view, 4> names = {"fixed", "velocity", "displacement", "strain"};
 };
 
 /// A [[load]]: hydrostatic pressure, or a uniform stress tensor applied as tractions σ·n on the hull.
+enum class MeasureKind { None, Uniaxial, MaterialTest };
+template <> struct EnumNames<MeasureKind> {
+    static constexpr std::array<std::string_view, 3> names = {"none", "uniaxial", "material_test"};
+};
+
 enum class LoadKind { Pressure, Stress };
 template <> struct EnumNames<LoadKind> {
     static constexpr std::array<std::string_view, 2> names = {"pressure", "stress"};
@@ -104,9 +109,9 @@ template <> struct EnumNames<CapHardeningKind> {
     static constexpr std::array<std::string_view, 2> names = {"sigmoid", "linear"};
 };
 
-enum class StrainAveraging { None, Neighbours };
+enum class StrainAveraging { None, Neighbours, SecondNeighbours };
 template <> struct EnumNames<StrainAveraging> {
-    static constexpr std::array<std::string_view, 2> names = {"none", "neighbours"};
+    static constexpr std::array<std::string_view, 3> names = {"none", "neighbours", "second_neighbours"};
 };
 
 enum class CouplingProfile { Linear, Cubic };
@@ -217,7 +222,9 @@ struct BoundaryParams {
     std::string set;
     BoundaryKind kind = BoundaryKind::Fixed;
     Vec3 value = Vec3::Zero(); ///< velocity (km/s) or displacement (µm)
-    double ramp_time = 0.0;    ///< ns, Displacement only; 0 = applied at once
+    double ramp_time = 0.0;    ///< ns, Displacement and Strain; 0 = applied at once
+    Vec3 normal_strain = Vec3::Zero(); ///< Strain: H_xx, H_yy, H_zz of the final displacement gradient
+    Vec3 shear_strain = Vec3::Zero();  ///< Strain: H_xy, H_yz, H_xz (u_x = γ_xy y, u_y = γ_yz z, u_x = γ_xz z)
 
     bool operator==(const BoundaryParams&) const = default;
 };
@@ -231,12 +238,17 @@ struct LoadParams {
     double pressure = 0.0;     ///< GPa, compressive positive (kind = stress: −tr σ / 3 of the stress held)
     Vec3 normal_stress = Vec3::Zero(); ///< kind = stress: σ_xx, σ_yy, σ_zz held, GPa, tension positive
     Vec3 shear_stress = Vec3::Zero();  ///< kind = stress: σ_xy, σ_yz, σ_xz held, GPa
+    double start_time = 0.0;   ///< ns: zero before it, the profile after
     double ramp_time = 0.0;    ///< ns
     double hold_time = 0.0;    ///< ns
     double release_time = 0.0; ///< ns
 
-    /// `value` (held) ramped, held and released at time t.
-    double profileAt(double value, double t) const {
+    /// `value` (held) ramped, held and released at time t (the profile starts at start_time).
+    double profileAt(double value, double time) const {
+        const double t = time - start_time;
+        if (t < 0.0) {
+            return 0.0;
+        }
         if (t < ramp_time) {
             return value * t / ramp_time;
         }
@@ -296,11 +308,12 @@ struct PlasticityParams {
     double sigmoid_amplitude = 4059.0;  ///< A (custom, sigmoid)
     double sigmoid_pressure = 1.7;      ///< P_s, GPa (custom, sigmoid)
     double hardening_modulus = 100.0;   ///< H = dp_b/de, GPa (custom, linear)
-    double young = 0.0;                 ///< E of the elastic metric, GPa (resolved: calibration or explicit)
-    double poisson = 0.0;               ///< ν of the elastic metric
-    std::string material_source;        ///< where E, ν come from (for the log)
-    StrainAveraging averaging = StrainAveraging::Neighbours; ///< the strain judged
-    long check_every = 1;               ///< steps between returns
+    double bulk = 0.0;                  ///< K₀ of the elastic metric, GPa (resolved: calibration or explicit)
+    double bulk_slope = 0.0;            ///< K′ of the metric's equation of state (M1)
+    double shear = 0.0;                 ///< G of the elastic metric, GPa
+    std::string material_source;        ///< where K₀, K′, G come from (for the log)
+    StrainAveraging averaging = StrainAveraging::SecondNeighbours; ///< the strain judged
+    long check_every = 10;              ///< steps between returns (10: yields within 0.1 % of every step, CHANGELOG)
 
     bool operator==(const PlasticityParams&) const = default;
 };
@@ -404,10 +417,15 @@ struct TimeParams {
 
 /// Uniaxial measurement: apparent modulus σ/ε from the reaction on a loaded set, the sample's cross-section
 /// normal to `axis` and its length along it (box or cylinder samples).
+/// A measurement of the run: none, the uniaxial bar's moduli (solver/measure/uniaxial.hpp), or a material-
+/// point virtual test's yield point and residual state (solver/measure/material_test.hpp).
 struct MeasureParams {
-    bool uniaxial = false;
-    std::string loaded_set;
-    int axis = 2; ///< 0 x, 1 y, 2 z
+    MeasureKind kind = MeasureKind::None;
+    std::string loaded_set;  ///< uniaxial
+    int axis = 2;            ///< uniaxial: 0 x, 1 y, 2 z
+    double offset = 0.002;   ///< material_test: |mean E^p| at the yield point
+    double stop_strain = 0.0; ///< material_test: the run ends at a row where |mean E^p| reaches it (0: never)
+    bool uniaxial() const { return kind == MeasureKind::Uniaxial; }
 
     bool operator==(const MeasureParams&) const = default;
 };

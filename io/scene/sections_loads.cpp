@@ -41,8 +41,9 @@ const std::vector<Key<BoundaryParams>>& boundaryKeys() {
         setName<S>("set", &S::set, "the set it holds").isRequired(),
         choice<S>(
             "kind", &S::kind,
-            "fixed: clamped; velocity: prescribed velocity; displacement: ramped over ramp_time, then held "
-            "(rotations of a constrained set are clamped)")
+            "fixed: clamped; velocity: prescribed velocity; displacement: ramped over ramp_time, then held; "
+            "strain: a homogeneous displacement gradient, ramped, then held (virtual tests: simple shear, "
+            "oedometric compression); rotations of a constrained set are clamped")
             .isRequired(),
         vector<S>("velocity", &S::value, Unit::Velocity, kAny, "the prescribed velocity")
             .onlyWhen(kind_is(BoundaryKind::Velocity), notUsedWith("kind", &S::kind))
@@ -50,9 +51,18 @@ const std::vector<Key<BoundaryParams>>& boundaryKeys() {
         vector<S>("displacement", &S::value, Unit::Length, kAny, "the prescribed displacement")
             .onlyWhen(kind_is(BoundaryKind::Displacement), notUsedWith("kind", &S::kind))
             .defaultIs("required for kind = \"displacement\""),
+        vector<S>("normal_strain", &S::normal_strain, Unit::None, kAny,
+                  "strain: the final normal strains [H_xx, H_yy, H_zz] of the displacement gradient H, about the "
+                  "set's centroid, tension positive")
+            .onlyWhen(kind_is(BoundaryKind::Strain), notUsedWith("kind", &S::kind)),
+        vector<S>("shear_strain", &S::shear_strain, Unit::None, kAny,
+                  "strain: the final shears [H_xy, H_yz, H_xz] (simple shear u_x = H_xy y, u_y = H_yz z, u_x = "
+                  "H_xz z)")
+            .onlyWhen(kind_is(BoundaryKind::Strain), notUsedWith("kind", &S::kind)),
         number<S>("ramp_time", &S::ramp_time, Unit::Time, kNonNegative,
-                  "displacement: applied linearly over this time (0: at once)")
-            .onlyWhen(kind_is(BoundaryKind::Displacement), notUsedWith("kind", &S::kind)),
+                  "displacement, strain: applied linearly over this time (0: at once)")
+            .onlyWhen([](const S& s) { return s.kind == BoundaryKind::Displacement || s.kind == BoundaryKind::Strain; },
+                      notUsedWith("kind", &S::kind)),
     };
     return keys;
 }
@@ -64,6 +74,9 @@ void boundaryRules(const TableReader& b, BoundaryParams& params, SceneReading& r
     }
     if (params.kind == BoundaryKind::Displacement && !b.find("displacement")) {
         b.missing("displacement", "[ux, uy, uz] (in " + r.units.name(Unit::Length) + ") for kind = " + kind);
+    }
+    if (params.kind == BoundaryKind::Strain && !b.find("normal_strain") && !b.find("shear_strain")) {
+        b.missing("normal_strain", "[H_xx, H_yy, H_zz] and/or shear_strain [H_xy, H_yz, H_xz] for kind = " + kind);
     }
 }
 
@@ -92,6 +105,8 @@ const std::vector<Key<LoadParams>>& loadKeys() {
             .onlyWhen(kind_is(LoadKind::Stress), notUsedWith("kind", &S::kind)),
         vector<S>("shear_stress", &S::shear_stress, Unit::Stress, kAny, "the shear stresses held [xy, yz, xz]")
             .onlyWhen(kind_is(LoadKind::Stress), notUsedWith("kind", &S::kind)),
+        number<S>("start_time", &S::start_time, Unit::Time, kNonNegative,
+                  "time at which the load starts (zero before): loads in sequence, e.g. confinement then axial"),
         number<S>("ramp_time", &S::ramp_time, Unit::Time, kNonNegative,
                   "time of the linear rise to the load held"),
         number<S>("hold_time", &S::hold_time, Unit::Time, kNonNegative, "time at the load held"),
@@ -209,9 +224,17 @@ Section timeSection() {
 const std::vector<Key<MeasureParams>>& measureKeys() {
     using S = MeasureParams;
     static const std::vector<std::string> axes = {"x", "y", "z"};
+    const auto uniaxial = [](const S& s) { return s.kind == MeasureKind::Uniaxial; };
+    const auto material = [](const S& s) { return s.kind == MeasureKind::MaterialTest; };
     static const std::vector<Key<S>> keys = {
-        constant<S>("kind", "uniaxial", "apparent modulus sigma/epsilon from the reaction on the loaded set"),
-        setName<S>("loaded_set", &S::loaded_set, "the set whose reaction gives the stress").isRequired(),
+        choice<S>("kind", &S::kind,
+                  "uniaxial: apparent modulus sigma/epsilon from the reaction on the loaded set; material_test: "
+                  "the interior's stress and strain along the path of the [[load]]s or the strain [[boundary]], "
+                  "its yield point and residual state (solver/measure/material_test.hpp)")
+            .isRequired(),
+        setName<S>("loaded_set", &S::loaded_set, "the set whose reaction gives the stress")
+            .onlyWhen(uniaxial, notUsedWith("kind", &S::kind))
+            .defaultIs("required for kind = \"uniaxial\""),
         custom<S>(
             "axis", joined(axes, true), "the loading axis (box, or cylinder along z)",
             [](const Key<S>& self, const KeyIn& in, S& s) {
@@ -219,7 +242,15 @@ const std::vector<Key<MeasureParams>>& measureKeys() {
             },
             [](const Key<S>&, const S& s, const Units&) {
                 return tomlString(axes[static_cast<std::size_t>(s.axis)]);
-            }),
+            })
+            .onlyWhen(uniaxial, notUsedWith("kind", &S::kind)),
+        number<S>("offset", &S::offset, Unit::None, Range{0.0, 0.1, true, false},
+                  "the yield point's offset: the interior's mean plastic strain |E^p| at yield")
+            .onlyWhen(material, notUsedWith("kind", &S::kind)),
+        number<S>("stop_strain", &S::stop_strain, Unit::None, kNonNegative,
+                  "the run ends at the first row where the interior's mean |E^p| reaches it (0: never; a "
+                  "stress-controlled test past the shear limit flows without bound)")
+            .onlyWhen(material, notUsedWith("kind", &S::kind)),
     };
     return keys;
 }
@@ -227,20 +258,26 @@ const std::vector<Key<MeasureParams>>& measureKeys() {
 Section measureSection() {
     Section s =
         plainSection<MeasureParams>("measure",
-                                    "A uniaxial measurement: apparent modulus from the reaction on a loaded "
-                                    "set, the sample's cross-section normal to the axis and its length "
-                                    "along it (box or cylinder samples).",
+                                    "A measurement: the uniaxial bar's apparent modulus from the reaction on a "
+                                    "loaded set (box or cylinder samples), or a material-point virtual test's "
+                                    "yield point and residual state (issue 26).",
                                     member<&Scene::measure>, &measureKeys);
     s.read = [](SceneReading& r) {
         const TableReader table = r.top.subtable("measure");
         if (table.table()) {
             readKeys(table, measureKeys(), r.scene.measure, r);
-            r.scene.measure.uniaxial = true;
+            if (r.scene.measure.kind == MeasureKind::None) {
+                table.fail(*table.find("kind"), "key 'measure.kind': expected \"uniaxial\" or \"material_test\" "
+                                                "(leave [measure] out for none), got \"none\"");
+            }
+            if (r.scene.measure.uniaxial() && !table.find("loaded_set")) {
+                table.missing("loaded_set", "the set whose reaction gives the stress, for kind = \"uniaxial\"");
+            }
         }
     };
     const auto write = s.write;
     s.write = [write](const Scene& scene, const Units& units, std::vector<std::string>& blocks) {
-        if (scene.measure.uniaxial) {
+        if (scene.measure.kind != MeasureKind::None) {
             write(scene, units, blocks);
         }
     };

@@ -77,9 +77,8 @@ void readEffectList(const Key<Scene>& self, const KeyIn& in, Scene& scene) {
         scene.effects.push_back(*effect);
     }
     // Effects that cannot be composed together (refused at the second one's entry): the cap law's compaction
-    // and the beams' slider are two homes of densification; the bridging zone's elastic check does not know
-    // the plastic state yet.
-    for (const Effect other : {Effect::Densification, Effect::Coupling}) {
+    // and the beams' slider are two homes of densification.
+    for (const Effect other : {Effect::Densification}) {
         const toml::node* plastic = in.reading.effect_nodes[static_cast<std::size_t>(Effect::Plasticity)];
         const toml::node* node = in.reading.effect_nodes[static_cast<std::size_t>(other)];
         if (plastic && node) {
@@ -90,11 +89,8 @@ void readEffectList(const Key<Scene>& self, const KeyIn& in, Scene& scene) {
             in.table.fail(later,
                           "key 'effects.list': effect \"plasticity\" cannot be combined with " +
                               tomlString(nameOf(other)) +
-                              (other == Effect::Densification
-                                   ? " (both would densify the silica: the cap law's compaction replaces the beams' "
-                                     "spring-slider; expected one of them)"
-                                   : " (the bridging zone's elastic check does not know the plastic state yet; "
-                                     "expected one of them)"));
+                              " (both would densify the silica: the cap law's compaction replaces the beams' "
+                              "spring-slider; expected one of them)");
         }
     }
     // Every other effect acts on the elastic bond network, so it is always composed, and first.

@@ -485,6 +485,19 @@ ZoneInelasticity zoneInelasticity(const Bridge& b, const Particles& particles, c
                 ++z.released_particles;
         }
     }
+    if (particles.plasticityEnabled()) {
+        // The cap law's flow as a volume: the particle's sphere times its accumulated plastic strain e + γ̄.
+        for (std::size_t i = 0; i < particles.size(); ++i) {
+            const double flow = particles.compaction[i] + particles.plastic_shear[i];
+            const double R = particles.radius[i];
+            const double volume = (4.0 / 3.0) * std::numbers::pi * R * R * R * flow;
+            z.total_slip_volume += volume;
+            if (b.particle_weight[i] < 1.0 && flow > 0.0) {
+                ++z.plastic_particles;
+                z.zone_slip_volume += (1.0 - b.particle_weight[i]) * volume;
+            }
+        }
+    }
     return z;
 }
 
@@ -515,7 +528,8 @@ void assertZoneElastic(const Bridge& b, const Particles& particles, const Bonds&
         throw RuntimeFailure(
             "bridging zone is no longer elastic: " + std::to_string(z.broken_bonds) + " broken bonds, " +
             std::to_string(z.densified_bonds) + " densified bonds, " + std::to_string(z.released_particles) +
-            " released particles with α_d < 1" + where + weighted +
+            " released particles, " + std::to_string(z.plastic_particles) + " plastic particles with α_d < 1" +
+            where + weighted +
             " (the CNEM is elastic; move the zone outwards" +
             (check.mode == ZoneCheck::Mode::Strict && z.broken_bonds == 0 && z.released_particles == 0
                  ? ", or judge densification by its weighted share: coupling.zone_check = \"weighted\")"

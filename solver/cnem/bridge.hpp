@@ -190,13 +190,17 @@ struct ZoneInelasticity {
     std::size_t broken_bonds = 0;       ///< broken bonds with α_d(mid) < 1
     std::size_t densified_bonds = 0;    ///< bonds with slip ≠ 0 and α_d(mid) < 1 (densification enabled)
     std::size_t released_particles = 0; ///< released particles with α_d < 1 (fracture enabled)
+    std::size_t plastic_particles = 0;  ///< particles with α_d < 1 that flowed (effect plasticity; their volume
+                                        ///< (4/3)π R³ (e + γ̄) counts as slip volume)
     std::int64_t first_bond = -1;       ///< the first broken or densified bond with α_d(mid) < 1 (−1: none)
     double first_weight = 1.0;          ///< its α_d(mid)
     double max_slip = 0.0;              ///< largest slip e_p of a bond with α_d(mid) < 1
     double min_densified_weight = 1.0;  ///< smallest α_d(mid) of a densified bond (1: none)
     double zone_slip_volume = 0.0;      ///< Σ_zone (1 − α_d) S l₀ e_p, µm³
     double total_slip_volume = 0.0;     ///< Σ_all S l₀ e_p, µm³
-    bool elastic() const { return broken_bonds == 0 && densified_bonds == 0 && released_particles == 0; }
+    bool elastic() const {
+        return broken_bonds == 0 && densified_bonds == 0 && released_particles == 0 && plastic_particles == 0;
+    }
     /// zone_slip_volume / total_slip_volume (0 without densification)
     double weightedSlipFraction() const { return total_slip_volume > 0.0 ? zone_slip_volume / total_slip_volume : 0.0; }
 };

@@ -277,6 +277,7 @@ void summarize(CoupledContinuum& c, Model& model, const RunClock& clock, nlohman
         {"zone_broken_bonds", z.broken_bonds},
         {"zone_densified_bonds", z.densified_bonds},
         {"zone_released_particles", z.released_particles},
+        {"zone_plastic_particles", z.plastic_particles},
         {"zone_check", nameOf(cp.zone_check)},
         {"zone_tolerance", cp.zone_tolerance},
         {"zone_max_slip", z.max_slip},

@@ -13,13 +13,17 @@
 
 namespace vitrum {
 
-CapPlasticity capLaw(const PlasticityParams& p) {
-    switch (p.law) {
+CapPlasticity publishedCapLaw(CapLaw law) {
+    switch (law) {
     case CapLaw::Bruns2020: return CapPlasticity::bruns2020();
     case CapLaw::Kermouche2008: return CapPlasticity::kermouche2008();
     case CapLaw::Molnar2017: return CapPlasticity::molnar2017();
     case CapLaw::Custom: break;
     }
+    return CapPlasticity{};
+}
+
+CapPlasticity capLaw(const PlasticityParams& p) {
     CapPlasticity law;
     law.shear_limit = p.shear_limit;
     law.cap_ratio = p.cap_ratio;
@@ -41,9 +45,8 @@ std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model) {
     model.particles.enablePlasticity(); // a restart's checkpoint brings it back filled
     Plasticity fx;
     fx.law.cap = capLaw(p);
-    fx.law.bulk = p.young / (3.0 * (1.0 - 2.0 * p.poisson));
-    fx.law.shear = p.young / (2.0 * (1.0 + p.poisson));
-    fx.law.averaging = p.averaging == StrainAveraging::Neighbours;
+    fx.law.metric = ElasticMetric{p.bulk, p.bulk_slope, p.shear};
+    fx.law.rings = static_cast<int>(p.averaging); // none 0, neighbours 1, second_neighbours 2
     fx.law.volume_factor = 1.0 / samplePackingFraction(model.sample);
     fx.check_every = p.check_every;
     const std::size_t n = model.particles.size();
@@ -62,16 +65,25 @@ RestStateView restStateView(Model& m) {
 PlasticStateView stateView(Model& m, Plasticity& fx) {
     Particles& p = m.particles;
     return {p.size(),           p.plastic_strain.data(), p.compaction.data(), p.plastic_shear.data(),
-            p.plastic_work.data(), fx.deformation.data(), fx.increment.data(),  fx.yielded.data()};
+            p.plastic_work.data(), fx.deformation.data(), fx.increment.data(), fx.yielded.data()};
 }
 } // namespace
 
 PlasticReturnTotals plasticReturn(Model& m, Plasticity& fx) {
     const RestStateView bonds = restStateView(m);
+    // The reference moments depend only on the intact bonds: rebuilt when fracture broke one since.
+    long long breaks = 0;
+    for (const std::int32_t b : m.particles.broken_bonds) { // empty without fracture; in index order
+        breaks += b;
+    }
+    if (breaks != fx.reference_breaks) {
+        referenceInverse(m.incidence.view(), bonds, m.particles.initial_position.data(), fx.law.rings, fx.strain);
+        fx.reference_breaks = breaks;
+    }
+    pooledDeformation(m.incidence.view(), bonds, m.particles.initial_position.data(), m.particles.position.data(),
+                      fx.law.rings, fx.strain, fx.deformation.data());
     const PlasticStateView state = stateView(m, fx);
-    deformationGradients(m.incidence.view(), bonds, m.particles.initial_position.data(),
-                         m.particles.position.data(), fx.deformation.data());
-    fx.last = capReturnPass(fx.law, m.incidence.view(), bonds, m.particles.radius.data(), state);
+    fx.last = capReturnPass(fx.law, m.particles.radius.data(), state);
     if (fx.last.yielded > 0) {
         moveRestStates(bonds, state, m.particles.orientation.data(), m.particles.position.data());
     }
@@ -114,8 +126,8 @@ void describe(const Plasticity& fx, const Model&, const TimeStep&, std::ostream&
     log << "  plasticity cap law on the particles' strain: q_y " << c.shear_limit << " GPa, p_b0 "
         << c.hardening.onset_pressure << " GPa, R " << c.cap_ratio << ", "
         << (c.hardening.kind == CapHardening::Kind::Sigmoid ? "sigmoid" : "linear") << " hardening to "
-        << 100.0 * std::expm1(c.hardening.saturationStrain()) << " %; K " << fx.law.bulk << " GPa, G "
-        << fx.law.shear << " GPa; strain " << (fx.law.averaging ? "averaged with the bonded neighbours" : "per particle")
+        << 100.0 * std::expm1(c.hardening.saturationStrain()) << " %; K0 " << fx.law.metric.bulk << " GPa, K' "
+        << fx.law.metric.bulk_slope << ", G " << fx.law.metric.shear << " GPa; strain of the bonds pooled over " << fx.law.rings << " ring(s) of neighbours"
         << ", returned every " << fx.check_every << " step(s)\n";
 }
 

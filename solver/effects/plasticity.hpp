@@ -2,7 +2,7 @@
 // each particle's kinematic strain; the plastic strain it returns moves the rest states of the particle's bonds.
 // Its phase:
 //   plasticity.return  every check_every steps, after the drift (and the tool's move), before the bond loads:
-//                      F_i, the return of every particle, then the rest states of the bonds of the yielded ones
+//                      the pooled strain moments, the return of every particle, then the rest states of the bonds of the yielded ones
 //                      (the step's bond loads then see the moved rest states)
 // Its per-particle state (E^p, e, γ̄, plastic work) lives in the particle store, sized by buildPlasticity; the
 // work arrays (F, the spatial increment, the yielded flags) here, rebuilt at each return.
@@ -26,18 +26,24 @@ struct RunClock;
 struct Scene;
 struct TimeStep;
 struct PlasticityParams;
+enum class CapLaw;
 
 struct Plasticity {
     PlasticFlowLaw law;
     long check_every = 1;
-    std::vector<double> deformation;   ///< 9n work: F_i
+    StrainWork strain;                 ///< the pooled reference inverse (cached) and the pooling buffers
+    long long reference_breaks = -1;   ///< broken bonds when strain.inverse was built (−1: not yet)
+    std::vector<double> deformation;   ///< 9n work: F̄ (P2)
     std::vector<double> increment;     ///< 6n work: Δε_i of the last return
     std::vector<std::uint8_t> yielded; ///< n work
     PlasticReturnTotals last;          ///< of the last return (not restored by a restart: recomputed at the next)
 };
 
-/// The cap law of the scene's [plasticity] (a preset, or the custom parameters).
+/// The cap law of the scene's resolved [plasticity] (a preset's constants are filled in by the reader).
 CapPlasticity capLaw(const PlasticityParams& params);
+
+/// The published law's constants (cap_plasticity.hpp presets); the default law for Custom.
+CapPlasticity publishedCapLaw(CapLaw law);
 
 /// The effect for `scene` (nullopt when not listed); sizes the particles' plastic state.
 std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model);

@@ -27,29 +27,11 @@ HydrostaticGauge hydrostaticGauge(const Model& model, const PressureLoads& loads
 
 namespace {
 
-/// Depth of point x below the convex hull whose facets are `planes` (outward unit normal n, offset c: the
-/// hull is n·x ≤ c for every facet): min over the facets of c − n·x (exact for a point inside).
-double depthBelow(const std::vector<std::array<double, 4>>& planes, const Vec3& x) {
-    double depth = INFINITY;
-    for (const auto& f : planes) {
-        depth = std::min(depth, f[3] - (f[0] * x.x() + f[1] * x.y() + f[2] * x.z()));
-    }
-    return depth;
-}
-
 /// The surface-layer/interior split of HydrostaticResult, from the initial configuration's hull.
 void surfaceAndInterior(const Model& model, const PressureLoad& load, HydrostaticResult& r) {
     const Particles& p = model.particles;
     const double* x0 = p.initial_position.data();
-    std::vector<std::array<double, 4>> planes;
-    const std::vector<std::int32_t>& t = load.surface.triangle;
-    for (std::size_t f = 0; f + 2 < t.size(); f += 3) {
-        const Vec3 a = load3(x0, static_cast<std::size_t>(t[f]));
-        const Vec3 n = (load3(x0, static_cast<std::size_t>(t[f + 1])) - a)
-                           .cross(load3(x0, static_cast<std::size_t>(t[f + 2])) - a)
-                           .normalized(); // counter-clockwise seen from outside: outward
-        planes.push_back({n.x(), n.y(), n.z(), n.dot(a)});
-    }
+    const std::vector<std::array<double, 4>> planes = hullPlanes(load.surface, x0);
     const double mean_radius = meanRadius(p);
     r.mean_radius = mean_radius;
     r.interior_depth = 2.0 * mean_radius;

@@ -14,18 +14,10 @@
 
 namespace vitrum {
 
-Vec3 BoundaryCondition::displacementAt(double t) const {
-    if (ramp_time <= 0.0 || t >= ramp_time) {
-        return value;
-    }
-    return value * (t / ramp_time);
-}
-
-Vec3 BoundaryCondition::rateAt(double t) const {
-    if (ramp_time <= 0.0 || t >= ramp_time) {
-        return Vec3::Zero();
-    }
-    return value / ramp_time;
+AffineDisplacement BoundaryCondition::fieldAt(double t) const {
+    const bool ramping = ramp_time > 0.0 && t < ramp_time;
+    return affineField(kind == BoundaryKind::Displacement ? value : Vec3::Zero(), gradient, centre,
+                       ramping ? t / ramp_time : 1.0, ramping ? 1.0 / ramp_time : 0.0);
 }
 
 std::size_t Model::setIndex(const std::string& name) const {
@@ -234,6 +226,18 @@ Model buildModel(const Scene& scene, double length_factor, const BondedSample& b
         } catch (const std::out_of_range& e) {
             throw InputError(scene.source_path + ": [[boundary]] set: " + e.what());
         }
+        if (b.kind == BoundaryKind::Strain) {
+            // H: the normal strains on the diagonal, the shears as u_x = γ_xy y, u_y = γ_yz z, u_x = γ_xz z.
+            bc.gradient.diagonal() = b.normal_strain;
+            bc.gradient(0, 1) = b.shear_strain.x();
+            bc.gradient(1, 2) = b.shear_strain.y();
+            bc.gradient(0, 2) = b.shear_strain.z();
+            const std::vector<std::int32_t>& members = model.sets[bc.set].members;
+            for (std::int32_t m : members) { // in index order: the same centre on any thread count
+                bc.centre += load3(model.particles.position.data(), static_cast<std::size_t>(m));
+            }
+            bc.centre /= static_cast<double>(members.size());
+        }
         model.boundaries.push_back(bc);
     }
     initialiseBoundaries(model);
@@ -244,10 +248,13 @@ void initialiseBoundaries(Model& model) {
     Particles& p = model.particles;
     for (const BoundaryCondition& bc : model.boundaries) {
         const Vec3 v = bc.kind == BoundaryKind::Velocity ? bc.value : Vec3::Zero();
-        const Vec3 rate = bc.kind == BoundaryKind::Displacement ? bc.rateAt(0.0) : Vec3::Zero();
+        const AffineDisplacement field = bc.fieldAt(0.0);
         for (std::int32_t m : model.sets[bc.set].members) {
             const auto i = static_cast<std::size_t>(m);
             p.flags[i] |= kKinematic;
+            const Vec3 X = load3(p.position.data(), i);
+            const Vec3 rate = bc.ramped() ? Vec3(field.rate * (field.displacement + field.gradient * (X - field.centre)))
+                                          : Vec3::Zero();
             store3(p.velocity.data(), i, v + rate);
             store3(p.angular_velocity.data(), i, Vec3::Zero());
         }

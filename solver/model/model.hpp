@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/boundary.hpp"
 #include "kernels/pages.hpp"
 #include "kernels/parallel.hpp"
 #include "solver/model/bonds.hpp"
@@ -25,11 +26,14 @@ struct BoundaryCondition {
     BoundaryKind kind = BoundaryKind::Fixed;
     std::size_t set = 0;        ///< index into Model::sets
     Vec3 value = Vec3::Zero();  ///< velocity (km/s) or final displacement (µm)
+    Eigen::Matrix3d gradient = Eigen::Matrix3d::Zero(); ///< Strain: the final displacement gradient H
+    Vec3 centre = Vec3::Zero(); ///< Strain: the set's initial centroid, µm (H acts about it)
     double ramp_time = 0.0;     ///< ns
 
-    /// Displacement and its rate at time t of a Displacement condition (linear ramp, then held).
-    Vec3 displacementAt(double t) const;
-    Vec3 rateAt(double t) const;
+    /// Displacement or Strain: whether the condition moves its set along a ramp.
+    bool ramped() const { return kind == BoundaryKind::Displacement || kind == BoundaryKind::Strain; }
+    /// The prescribed field at time t (linear ramp over ramp_time, then held).
+    AffineDisplacement fieldAt(double t) const;
 };
 
 /// A rank's part of a sample run on several MPI ranks (solver/parallel/decomposition.hpp): the stores hold the

@@ -105,4 +105,25 @@ double convexHullVolume(const double* position, const std::vector<std::int32_t>&
     return enclosedVolume(position, s.view());
 }
 
+std::vector<std::array<double, 4>> hullPlanes(const HullSurface& hull, const double* x) {
+    std::vector<std::array<double, 4>> planes;
+    const std::vector<std::int32_t>& t = hull.triangle;
+    for (std::size_t f = 0; f + 2 < t.size(); f += 3) {
+        const Vec3 a = load3(x, static_cast<std::size_t>(t[f]));
+        const Vec3 n = (load3(x, static_cast<std::size_t>(t[f + 1])) - a)
+                           .cross(load3(x, static_cast<std::size_t>(t[f + 2])) - a)
+                           .normalized(); // counter-clockwise seen from outside: outward
+        planes.push_back({n.x(), n.y(), n.z(), n.dot(a)});
+    }
+    return planes;
+}
+
+double depthBelow(const std::vector<std::array<double, 4>>& planes, const Vec3& x) {
+    double depth = INFINITY;
+    for (const auto& f : planes) {
+        depth = std::min(depth, f[3] - (f[0] * x.x() + f[1] * x.y() + f[2] * x.z()));
+    }
+    return depth;
+}
+
 } // namespace vitrum

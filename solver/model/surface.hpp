@@ -3,6 +3,7 @@
 // Computed with CGAL's convex_hull_3 (exact predicates, so the hull is exactly the hull of the doubles).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -24,6 +25,12 @@ struct HullSurface {
 /// (at small deformations the followed mesh is the hull; convexHullVolume recomputes it exactly).
 /// Throws std::invalid_argument when the points span no volume (fewer than 4, or coplanar).
 HullSurface convexHullOf(const double* position, const std::vector<std::int32_t>& members);
+
+/// The facet planes of `hull` at `position` (3n): outward unit normal n and offset c, the hull being n·x ≤ c.
+std::vector<std::array<double, 4>> hullPlanes(const HullSurface& hull, const double* position);
+
+/// Depth of x below the hull of `planes`: min over the facets of c − n·x (exact for a point inside), µm.
+double depthBelow(const std::vector<std::array<double, 4>>& planes, const Vec3& x);
 
 /// Volume of the convex hull of the centres of `members` at the current positions, recomputed, µm³.
 double convexHullVolume(const double* position, const std::vector<std::int32_t>& members);

@@ -53,9 +53,10 @@ void refuseUnsupported(const Scene& scene, int ranks) {
         throw InputError(scene.where("fracture.volume") + ": \"cells\" (Delaunay cell volumes)" + on +
                          "; expected \"packing\" or \"sphere\", or a run on one rank");
     }
-    if (scene.measure.uniaxial) {
-        throw InputError(scene.where("measure.uniaxial") + ": the uniaxial gauges" + on +
-                         "; expected a run on one rank");
+    if (scene.measure.kind != MeasureKind::None) {
+        throw InputError(scene.where("measure.kind") + ": \"" + std::string(nameOf(scene.measure.kind)) +
+                         "\" (" + (scene.measure.uniaxial() ? "the uniaxial gauges" : "the material test's interior gauge") +
+                         ")" + on + "; expected a run on one rank");
     }
 }
 

@@ -75,7 +75,7 @@ struct Domain {
 /// owned end, the incidence of the owned particles and the owned members of every set; `effects` (built on
 /// `full`) has its per-particle state cut to the local particles. Returns the domain with the bond halo.
 /// Refuses (InputError) what cannot run on several ranks yet: effects coupling and plasticity, [[load]]
-/// pressure or stress, fracture.volume = "cells", measure.uniaxial.
+/// pressure or stress, fracture.volume = "cells", [measure] (uniaxial or material_test).
 Domain localize(const Scene& scene, const Model& full, Effects& effects, Comm& comm, Model& local);
 
 /// Throws InputError when the scene asks for something that cannot run on several ranks (see localize).

@@ -25,7 +25,7 @@ Recorder::Recorder(const Scene& scene, Model& model, Effects& effects)
     for (const std::string& name : scene.output.reactions) {
         probe(name);
     }
-    if (scene.measure.uniaxial) {
+    if (scene.measure.uniaxial()) {
         probe(scene.measure.loaded_set);
     }
     columns_ = {"step", "time_ns", "kinetic_energy_nJ", "strain_energy_nJ", "max_speed_m_per_s"};
@@ -37,11 +37,16 @@ Recorder::Recorder(const Scene& scene, Model& model, Effects& effects)
             columns_.push_back("displacement_" + model.sets[s].name + "_" + c + "_um");
         }
     }
-    if (scene.measure.uniaxial) {
+    if (scene.measure.uniaxial()) {
         uniaxial_ = uniaxialGauge(model, scene.measure.axis);
         loaded_ = static_cast<std::size_t>(
             std::find(probed_.begin(), probed_.end(), model.setIndex(scene.measure.loaded_set)) - probed_.begin());
         columns_.insert(columns_.end(), {"uniaxial_stress_GPa", "uniaxial_strain", "extensometer_strain", "lateral_strain"});
+    }
+    if (scene.measure.kind == MeasureKind::MaterialTest) {
+        material_ = materialTestGauge(scene, model);
+        const std::vector<std::string> gauge = materialTestColumns();
+        columns_.insert(columns_.end(), gauge.begin(), gauge.end());
     }
     forEachEffect(effects, [&](auto& effect) {
         if constexpr (requires { seriesColumns(effect, columns_); }) {
@@ -71,6 +76,13 @@ std::vector<double> Recorder::record(long step, double time) {
                                lateralStrain(*uniaxial_, model_.particles)};
         uniaxial_last_ = u;
         row.insert(row.end(), {u.stress, u.strain, u.extensometer, u.lateral});
+    }
+    if (material_) {
+        const std::vector<double> gauge =
+            materialTestRow(*material_, model_, effects_.pressure ? &*effects_.pressure : nullptr, time);
+        row.insert(row.end(), gauge.begin(), gauge.end());
+        finished_ = scene_.measure.stop_strain > 0.0 &&
+                    materialTestPlasticStrain(gauge) >= scene_.measure.stop_strain;
     }
     forEachEffect(effects_, [&](auto& effect) {
         if constexpr (requires { seriesValues(effect, model_, row); }) {

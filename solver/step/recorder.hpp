@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "solver/measure/hydrostatic.hpp"
+#include "solver/measure/material_test.hpp"
 #include "solver/measure/uniaxial.hpp"
 #include "solver/step/probes.hpp"
 
@@ -35,6 +36,10 @@ public:
     /// The probes' and gauges' summary keys into `measurements` (final energies, reactions, E and ν of a
     /// uniaxial test, the volume changes of a hydrostatic one).
     void summarize(nlohmann::ordered_json& measurements) const;
+    /// The material test's gauge ([measure] kind = "material_test"), else null.
+    const MaterialTestGauge* materialTest() const { return material_ ? &*material_ : nullptr; }
+    /// Whether the last record() met a measurement's end ([measure] material_test stop_strain): the run ends.
+    bool finished() const { return finished_; }
 
 private:
     struct UniaxialSample {
@@ -49,6 +54,8 @@ private:
     std::size_t loaded_ = 0; ///< index of the loaded set in probed_
     std::optional<UniaxialSample> uniaxial_last_;
     std::optional<HydrostaticGauge> hydrostatic_;
+    std::optional<MaterialTestGauge> material_;
+    bool finished_ = false;
     ProbeValues last_;
 };
 

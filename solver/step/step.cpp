@@ -67,10 +67,10 @@ void addPrescribedDisplacementPhase(Step& step) {
     step.add("bc.prescribe", false, [](StepContext& c) {
         const ParticleView p = c.model.particles.view();
         for (const BoundaryCondition& bc : c.model.boundaries) {
-            if (bc.kind == BoundaryKind::Displacement) {
+            if (bc.ramped()) {
                 const NamedSet& s = c.model.sets[bc.set];
                 prescribeDisplacement(p, c.model.particles.initial_position.data(), s.members.data(),
-                                      s.members.size(), bc.displacementAt(c.time), bc.rateAt(c.time));
+                                      s.members.size(), bc.fieldAt(c.time));
             }
         }
     });
@@ -122,7 +122,7 @@ void addGatherPhase(Step& step) {
 
 bool hasDisplacementBoundary(const Model& model) {
     for (const BoundaryCondition& bc : model.boundaries) {
-        if (bc.kind == BoundaryKind::Displacement) {
+        if (bc.ramped()) {
             return true;
         }
     }

@@ -1,5 +1,5 @@
 // libFuzzer target for the calibration file reader (io/calibration_io.hpp readCalibration, which takes a path:
-// the bytes are written to a scratch file) and for withDensificationSection, the edit `vitrum calibrate
+// the bytes are written to a scratch file) and for withCommandSection, the edit `vitrum calibrate
 // densification` makes to such a file (the result, when the edit is accepted, is read again). Each must accept
 // or raise InputError.
 #include <cstddef>
@@ -19,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const std::string section = std::string(kDensificationSectionMarker) +
                                     "\n[densification]\nyield_stress = 7.13\ntangent_modulus = 98.82\n"
                                     "max_permanent_strain = 0.067\n";
-        fuzz::writeFile(path, withDensificationSection(text, section, path));
+        fuzz::writeFile(path, withCommandSection(text, section, path));
         (void)readCalibration(path);
     });
     return 0;

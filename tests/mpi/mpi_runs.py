@@ -180,7 +180,7 @@ def case_matrix_fracture(r):
 def case_variants(r):
     """The effects' other forms on 3 ranks against one process: bond-viscous damping (the ghosts' velocities
     and spins travel with the halo) and fracture averaged over the bonded neighbours (the ghosts' eq (10)
-    stress is forwarded before the average), on the reduced 30 N scene."""
+    stress is forwarded before the average), on the reduced 30 N scene; and a strain boundary on the sphere."""
     name, args = FRACTURE
     args = args + ["--set", 'damping.kind="bond-viscous"', "--set", "damping.coefficient=0.2",
                    "--set", 'fracture.averaging="neighbours"', "--set", "fracture.hydrostatic_strength=0.05"]
@@ -190,6 +190,14 @@ def case_variants(r):
     r.same(f"{name} bond-viscous damping, averaged fracture, P=3 vs one process", s, r.summary(three))
     if not s["measurements"].get("released_particles"):
         r.failures.append("the variant scene released no particle: the averaging is not exercised")
+    # A [[boundary]] of kind strain (the virtual tests' driver): its members follow an affine field about the
+    # set's centroid and turn with its polar rotation (the ghosts get the orientations through the halo).
+    name, args = SPHERE
+    args = args + ["--set", 'boundary=[{set="bottom",kind="fixed"},{set="top",kind="strain",'
+                            'normal_strain=[0.0,0.0,-0.04],shear_strain=[0.05,0.0,0.0],ramp_time=1.0}]']
+    serial, _ = r.run(name, args, 1, 1, "serial-strain", launcher=False)
+    three, _ = r.run(name, args, 3, 1, "p3-strain")
+    r.same(f"{name} strain boundary, P=3 vs one process", r.summary(serial), r.summary(three))
 
 
 def partition_cuts(weights, ranks, align=512):
@@ -337,6 +345,7 @@ def case_empty_ranks(r):
 def case_faults(r):
     """Failures end every rank with one message and the right exit code, never a hang."""
     name, args = QUICKSTART
+    args = [a.replace("@WORK@", r.work) for a in args]  # the commands below call mpiexec directly
     scene = os.path.join(r.examples, name)
     # Bad input on every rank: one message, exit 2.
     _, proc = r.run(name, args + ["--set", "sample.particles=-3"], 2, 1, "bad", expect=2, timeout=120)
@@ -346,6 +355,17 @@ def case_faults(r):
     _, proc = r.run("vickers-0.1N-coupled.toml", ["--set", 'sample.file=""'], 2, 1, "coupled", expect=2, timeout=120)
     if "coupling" not in proc.stderr:
         r.failures.append(f"coupling on 2 ranks: {proc.stderr}")
+    # Plasticity pools its strain moments over two rings of bonded neighbours, which the one-deep bond halo
+    # does not supply: refused on several ranks (the Hertz sphere with plasticity, a scene one process runs).
+    plastic = ["--set", 'effects.list=["elasticity","plasticity","indenter","damping"]',
+               "--set", 'plasticity.law="bruns2020"']
+    _, proc = r.run("hertz-sphere.toml", plastic, 2, 1, "plastic", expect=2, timeout=120)
+    if "effect 'plasticity' cannot run on 2 MPI ranks" not in proc.stderr or proc.stderr.count("error:") != 1:
+        r.failures.append(f"plasticity on 2 ranks: {proc.stderr}")
+    # The material test's gauge reads the whole sample's interior: refused too.
+    _, proc = r.run(name, args + ["--set", 'measure.kind="material_test"'], 2, 1, "material", expect=2, timeout=120)
+    if "material_test" not in proc.stderr or "cannot run on 2 MPI ranks" not in proc.stderr:
+        r.failures.append(f"measure.kind = material_test on 2 ranks: {proc.stderr}")
     # Different scenes on the ranks (MPMD): refused at the start.
     out = os.path.join(r.work, "mismatch")
     cmd = [r.mpiexec, "--oversubscribe", "-n", "1", r.vitrum, "run", scene, "--out", out, "--quiet"] + args + \

@@ -116,9 +116,9 @@ TEST(DensificationCalibrationFile, SectionIsAppendedReplacedAndPickedUpByScenes)
                               "\n[densification]\nyield_stress = 20.0\ntangent_modulus = 5.0\nmax_permanent_strain = 0.03\n";
     const std::string second = std::string(kDensificationSectionMarker) +
                                "\n[densification]\nyield_stress = 23.05\ntangent_modulus = 0.0\nmax_permanent_strain = 0.0297\n";
-    const std::string once = withDensificationSection(elastic, first, path);
-    const std::string twice = withDensificationSection(once, second, path);
-    EXPECT_EQ(twice, withDensificationSection(elastic, second, path)); // replaced, not appended twice
+    const std::string once = withCommandSection(elastic, first, path);
+    const std::string twice = withCommandSection(once, second, path);
+    EXPECT_EQ(twice, withCommandSection(elastic, second, path)); // replaced, not appended twice
     std::ofstream(path) << twice;
     const CalibrationFile c = readCalibration(path);
     ASSERT_TRUE(c.densification.has_value());
@@ -138,7 +138,7 @@ TEST(DensificationCalibrationFile, SectionIsAppendedReplacedAndPickedUpByScenes)
     EXPECT_EQ(t.densification.yield_stress, 7.13);
     EXPECT_EQ(t.densification.max_permanent_strain, 0.0297);
     // A [densification] table the command did not write is refused rather than duplicated.
-    EXPECT_THROW(withDensificationSection(elastic + "\n[densification]\nyield_stress = 1.0\n", second, path),
+    EXPECT_THROW(withCommandSection(elastic + "\n[densification]\nyield_stress = 1.0\n", second, path),
                  InputError);
 }
 

@@ -169,7 +169,7 @@ TEST(SceneReader, FullSceneIsReadAndRoundTripsThroughResolvedToml) {
     EXPECT_EQ(scene.sets[2].name, "side-wall");
     EXPECT_EQ(scene.boundaries[1].kind, BoundaryKind::Velocity);
     EXPECT_EQ(scene.damping.kind, DampingKind::CundallLocal);
-    EXPECT_TRUE(scene.measure.uniaxial);
+    EXPECT_TRUE(scene.measure.uniaxial());
     EXPECT_EQ(scene.measure.axis, 1);
 
     const std::string resolved = resolvedSceneToml(scene);
@@ -234,12 +234,14 @@ const std::map<std::string, std::string> kEverySection = {
      "[[boundary]]\nset = \"dome\"\nkind = \"fixed\"\n"
      "[[boundary]]\nset = \"top\"\nkind = \"velocity\"\nvelocity = [0, 0.1, -0.3]\n"
      "[[boundary]]\nset = \"side-wall\"\nkind = \"displacement\"\ndisplacement = [1e-4, 0, 3.3e-5]\n"
-     "ramp_time = 0.25\n"},
+     "ramp_time = 0.25\n"
+     "[[boundary]]\nset = \"top\"\nkind = \"strain\"\nnormal_strain = [0, 0, -0.05]\n"
+     "shear_strain = [0.1, 0, 0.02]\nramp_time = 0.5\n"},
     {"load",
      "[[load]]\nset = \"top\"\nkind = \"pressure\"\npressure = 3000\nramp_time = 0.002\nhold_time = 0.001\n"
      "release_time = 0.003\n"
      "[[load]]\nset = \"dome\"\nkind = \"stress\"\nnormal_stress = [-2000, 0, 150]\nshear_stress = [0, 700, -30]\n"
-     "ramp_time = 0.004\n"},
+     "start_time = 0.001\nramp_time = 0.004\n"},
     {"damping", "[damping]\nkind = \"cundall\"\ncoefficient = 0.05\n"},
     {"densification",
      "[densification]\nyield_stress = 7130\ntangent_modulus = 98820\nmax_permanent_strain = 0.05\n"
@@ -307,7 +309,7 @@ std::vector<std::string> everyKeyScenes() {
                                 {"material", "[material]\ncalibration = \"" + calibration + "\"\n"},
                                 {"densification", "[densification]\ncalibration = \"" + calibration + "\"\n"},
                                 {"coupling", "[coupling]\nthickness = 0.0015\nbox = 0.026\n"}}),
-        // Plasticity excludes densification and coupling: a custom law with each hardening; the preset with the
+        // Plasticity excludes densification: a custom law with each hardening; the preset with the
         // calibration's elastic law.
         sceneOf(kEverySection,
                 {{"effects", "[effects]\nlist = [\"damping\", \"plasticity\", \"indenter\", \"fracture\"]\n"},
@@ -315,8 +317,10 @@ std::vector<std::string> everyKeyScenes() {
                  {"coupling", ""},
                  {"plasticity", "[plasticity]\nlaw = \"custom\"\nshear_limit = 7000\ncap_ratio = 1.2\n"
                                 "hardening = \"sigmoid\"\nonset_pressure = 7500\nsaturation = 0.2\n"
-                                "sigmoid_amplitude = 3000\nsigmoid_pressure = 1800\nyoung_modulus = 71000\n"
-                                "poisson_ratio = 0.18\naveraging = \"none\"\ncheck_every = 4\n"}}),
+                                "sigmoid_amplitude = 3000\nsigmoid_pressure = 1800\nbulk_modulus = 43000\n"
+                                "bulk_modulus_slope = 1.2\nshear_modulus = 34000\naveraging = \"none\"\n"
+                                "check_every = 4\n"},
+                 {"measure", "[measure]\nkind = \"material_test\"\noffset = 0.003\nstop_strain = 0.05\n"}}),
         sceneOf(kEverySection,
                 {{"effects", "[effects]\nlist = [\"damping\", \"plasticity\", \"indenter\", \"fracture\"]\n"},
                  {"densification", ""},
@@ -460,15 +464,15 @@ TEST(SceneReader, EffectsAreCheckedByName) {
     // The cap law's compaction and the beams' slider are two homes of densification: refused together, at the
     // other effect's entry.
     expectMentions(errorOf("[effects]\nlist = [\"plasticity\", \"densification\"]\n[plasticity]\n"
-                           "young_modulus = 72.5\npoisson_ratio = 0.17\n[time]\nduration = 1\n"),
+                           "bulk_modulus = 43\nshear_modulus = 34\n[time]\nduration = 1\n"),
                    {"q.toml:2:23:", "key 'effects.list'", "effect \"plasticity\" cannot be combined with \"densification\""});
     // A preset's parameters are the preset's: a custom key beside it is refused.
     expectMentions(errorOf("[effects]\nlist = [\"plasticity\"]\n[plasticity]\nlaw = \"bruns2020\"\n"
-                           "shear_limit = 7.0\nyoung_modulus = 72.5\npoisson_ratio = 0.17\n[time]\nduration = 1\n"),
+                           "shear_limit = 7.0\nbulk_modulus = 43\nshear_modulus = 34\n[time]\nduration = 1\n"),
                    {"q.toml:5:15:", "key 'plasticity.shear_limit'", "not used with law = \"bruns2020\""});
     // Without an elastic law to judge the strain with: missing, with what to give.
     expectMentions(errorOf("[effects]\nlist = [\"plasticity\"]\n[time]\nduration = 1\n"),
-                   {"missing key 'plasticity.young_modulus'", "[material] calibration"});
+                   {"missing key 'plasticity.bulk_modulus'", "[material] calibration"});
     // Every known effect is available now; coupling on a sample it cannot embed says so at its entry.
     expectMentions(errorOf("[effects]\nlist = [\"coupling\"]\n[time]\nduration = 1\n"),
                    {"q.toml:2:9:", "effect 'coupling'", "expected sample.shape = \"hemisphere\""});

@@ -46,7 +46,12 @@ TEST(StepComposition, EachEffectAddsItsPhases) {
     s.effects = {Effect::Elasticity, Effect::Damping};
     s.damping = {DampingKind::CundallLocal, 0.5};
     s.sets = {{"top", "top layer"}};
-    s.boundaries = {{"top", BoundaryKind::Displacement, Vec3(0, 0, -0.01), 1.0}};
+    BoundaryParams top;
+    top.set = "top";
+    top.kind = BoundaryKind::Displacement;
+    top.value = Vec3(0, 0, -0.01);
+    top.ramp_time = 1.0;
+    s.boundaries = {top};
     Model m = buildModel(s, 1.0);
     std::vector<std::string> l = labels(composeStep(m, buildEffects(s, m)));
     EXPECT_TRUE(has(l, "damping.cundall"));

@@ -151,8 +151,13 @@ TEST(FractureTension, ScBarFailsAtThreeTimesTheHydrostaticStrengthAcrossAPerpend
     // bar wave (quasi-static); the bottom layer is fixed.
     const double length = 7.5; // between the grip layers' centres
     const double speed = std::sqrt(young / s.material.density) * strain_fail / 25.0;
-    m.boundaries.push_back({BoundaryKind::Fixed, m.setIndex("bottom"), Vec3::Zero(), 0.0});
-    m.boundaries.push_back({BoundaryKind::Velocity, m.setIndex("top"), Vec3(0, 0, speed), 0.0});
+    BoundaryCondition hold;
+    hold.set = m.setIndex("bottom");
+    BoundaryCondition pull;
+    pull.kind = BoundaryKind::Velocity;
+    pull.set = m.setIndex("top");
+    pull.value = Vec3(0, 0, speed);
+    m.boundaries = {hold, pull};
     initialiseBoundaries(m);
     Effects fx = buildEffects(s, m);
     Step step = composeStep(m, fx);
