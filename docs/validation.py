@@ -349,11 +349,11 @@ def indentation():
                "OUT 2 SEED`). Figures: " + link(f"{FIG}/vickers-0.5N-coupled/densified_zone_pair.png") + " (Fig 14), "
                + link(f"{FIG}/vickers-0.1N/imprint_top.png") + " and " + link(f"{FIG}/vickers-0.5N/imprint_top.png")
                + " (Fig 13).\n")
-    out.append("\nProduced by (from the repository root, two threads): `build/vitrum run examples/vickers-0.1N.toml` "
-               "and `build/vitrum run examples/vickers-0.5N.toml` (the committed scenes); the pairs at rest with "
+    out.append("\nProduced by (from the repository root, two threads): `build/vitrum run examples/paper/vickers-0.1N.toml` "
+               "and `build/vitrum run examples/paper/vickers-0.5N.toml` (the committed scenes); the pairs at rest with "
                "`--set 'stage[3].duration=60.0' --set 'stage[3].kinetic_tolerance=1e-12'` on "
-               "`examples/vickers-0.1N.toml`, `examples/vickers-0.1N-coupled.toml`, `examples/vickers-0.5N.toml "
-               "--set 'stage[0].slow_band=0.005'` and `examples/vickers-0.5N-coupled.toml` (the 0.5 N coupled run "
+               "`examples/paper/vickers-0.1N.toml`, `examples/paper/vickers-0.1N-coupled.toml`, `examples/paper/vickers-0.5N.toml "
+               "--set 'stage[0].slow_band=0.005'` and `examples/paper/vickers-0.5N-coupled.toml` (the 0.5 N coupled run "
                "stopped and continued with `--restart`); the surface-particle metrics of the 0.1 N pair by "
                "`build/vitrum measure RUN_DIR` on the saved states (`measure-*.json`); the quickstart by `make "
                "run`. Wall times and the machines: examples/README.md and CHANGELOG.md, issues 6 and 7.\n")
@@ -390,7 +390,7 @@ def cracks():
     out.append(f"\nAt 100 000 particles the cone radius is {pct(r100, ARORA_CONE_RADIUS)} on Arora's ≈ 40 µm and "
                f"{pct(r100, PAPER_CONE_RADIUS)} on the paper's 41.14 µm (the acceptance was 15 %). It falls with "
                "resolution at fixed σ_f^hyd (60.8 µm at 8 000 particles, CHANGELOG.md, issue 9). From: "
-               + ", ".join(link(s) for s in sources) + "; produced by `build/vitrum run examples/vickers-30N.toml` "
+               + ", ".join(link(s) for s in sources) + "; produced by `build/vitrum run examples/paper/vickers-30N.toml` "
                "(100 000 particles, 69 min on 2 threads) and the same with `--set sample.particles=20000 --set "
                "'sample.file=\"packings/hemisphere-120um-20000-seed1.h5\"' --threads 1 --set time.duration=400.0` "
                "(stopped after full load). Figures: " + link(f"{FIG}/vickers-30N/cracks_full_load.png") + ".\n")

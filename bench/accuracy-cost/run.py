@@ -12,13 +12,13 @@ time) and the imprint metrics V-, V_d, D, L (summary.json), and writes
   pareto.png    error (largest |deviation| over V-, V_d, D, L from the finest run) against CPU time
 
 Presets:
-  quick  examples/quickstart.toml (0.025 N on a 6 um hemisphere; metrics scaled to 0.1 N by self-similarity):
+  quick  examples/paper/quickstart.toml (0.025 N on a 6 um hemisphere; metrics scaled to 0.1 N by self-similarity):
          particles 2 000 ... 16 000 (the finest, at the default settings), and at 8 000 particles the
          time-step ratio 0.1 / 0.15 / 0.3, loading speed 5 / 10 / 20 m/s, Cundall damping 0.15 / 0.3 / 0.6.
-  paper  examples/vickers-0.1N.toml: particles 5 000 ... 100 000 (each count its own cached packing,
+  paper  examples/paper/vickers-0.1N.toml: particles 5 000 ... 100 000 (each count its own cached packing,
          examples/packings/hemisphere-12um-N-seed1.h5), at 20 000 particles the time-step ratio 0.1 / 0.3,
          loading speed 10 / 40 m/s, Cundall damping 0.15 / 0.6, and the coupled DEM-CNEM scene
-         (examples/vickers-0.1N-coupled.toml) at 100 000 particles against DEM-only. 2.1 CPU hours, 1 h 20 min
+         (examples/paper/vickers-0.1N-coupled.toml) at 100 000 particles against DEM-only. 2.1 CPU hours, 1 h 20 min
          with --jobs 2 on the 2-core development machine (the coupled run is the critical path).
   smoke  three tiny runs (a ctest): checks that the study runs end to end and writes its three outputs.
 
@@ -82,7 +82,7 @@ def speed_set(v):
 def preset_runs(name):
     """(runs, default particle count, the scene's own value of each other axis)."""
     if name == "quick":
-        scene = "examples/quickstart.toml"
+        scene = "examples/paper/quickstart.toml"
         runs = [Run("particles", str(n), scene, ["--set", f"sample.particles={n}"]) for n in (16000, 8000, 4000, 2000)]
         for r in (0.1, 0.3):
             runs.append(Run("safety_ratio", str(r), scene, ["--set", f"time.safety_ratio={r}"], base="8000"))
@@ -92,10 +92,10 @@ def preset_runs(name):
             runs.append(Run("cundall", str(a), scene, ["--set", f"damping.coefficient={a}"], base="8000"))
         return runs, "8000", {"safety_ratio": 0.15, "speed_m_per_s": 10.0, "cundall": 0.3}
     if name == "paper":
-        scene = "examples/vickers-0.1N.toml"
+        scene = "examples/paper/vickers-0.1N.toml"
         runs = [Run("particles", str(n), scene, packing_file(n)) for n in (100000, 50000, 20000, 10000, 5000)]
         # The coupled scene as it is (100 000 particles, the same packing as the DEM-only run).
-        runs.append(Run("model", "coupled", "examples/vickers-0.1N-coupled.toml", [], base="100000"))
+        runs.append(Run("model", "coupled", "examples/paper/vickers-0.1N-coupled.toml", [], base="100000"))
         at = packing_file(20000)
         for r in (0.1, 0.3):
             runs.append(Run("safety_ratio", str(r), scene, at + ["--set", f"time.safety_ratio={r}"], base="20000"))
@@ -105,7 +105,7 @@ def preset_runs(name):
             runs.append(Run("cundall", str(a), scene, at + ["--set", f"damping.coefficient={a}"], base="20000"))
         return runs, "100000", {"safety_ratio": 0.15, "speed_m_per_s": 20.0, "cundall": 0.3}
     if name == "smoke":
-        scene = "examples/quickstart.toml"
+        scene = "examples/paper/quickstart.toml"
         tiny = ["--set", "sample.radius=3.0", "--set", "stage[0].until_force=0.003", "--set", "stage[0].speed=0.05",
                 "--set", "stage[1].duration=2.0", "--set", "stage[2].speed=0.05", "--set", "stage[3].duration=5.0",
                 "--set", "sample.file=\"\""]

@@ -146,7 +146,7 @@ class Ctx:
 
     def indent(self, key):
         scene, full, quick = INDENT[key]
-        argv = ["run", os.path.join(EXAMPLES, scene)] + sets(quick if self.quick else full)
+        argv = ["run", os.path.join(EXAMPLES, "paper", scene)] + sets(quick if self.quick else full)
         return self.vitrum(key, argv), os.path.join(self.runs, key)
 
     def write(self, md_lines, csv_rows=None):

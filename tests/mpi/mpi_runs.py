@@ -32,7 +32,7 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 
 # The reduced scenes: each a few seconds on one rank, each over several reduction chunks (512 particles),
 # so that 2, 3 and 4 ranks all own particles.
-QUICKSTART = ("quickstart.toml", [
+QUICKSTART = ("paper/quickstart.toml", [
     "--set", 'sample.file="@WORK@/quickstart.h5"', "--set", "sample.particles=2500", "--set", "sample.radius=4.0",
     "--set", "stage[0].speed=0.25", "--set", "stage[0].until_force=0.002", "--set", "stage[1].duration=0.5",
     "--set", "stage[2].speed=0.25", "--set", "stage[3].duration=1.0", "--set", "time.duration=100.0",
@@ -47,7 +47,7 @@ SPHERE = ("hydrostatic-sphere.toml", [
              'ramp_time=1.0}]',
     "--set", 'output.reactions=["top","bottom"]', "--set", "time.duration=1.5", "--set", "output.maps=0"])
 # The 30 N smoke (tests/regression/test_vickers_30N.cpp) reduced further: fracture, contacts, the tool.
-FRACTURE = ("vickers-30N.toml", [
+FRACTURE = ("paper/vickers-30N.toml", [
     "--set", "sample.particles=2000", "--set", 'sample.file="@WORK@/hemisphere.h5"', "--set", "stage[0].speed=0.3",
     "--set", "stage[0].until_force=8.0", "--set", "stage[1].duration=1.0", "--set", "stage[2].speed=0.3",
     "--set", "stage[3].duration=1.0", "--set", "output.maps=2"])
@@ -250,7 +250,7 @@ def case_cut_bonds(r):
 
 # A 6 x 6 x 4 um box of 2 700 particles shattered by a fast tool (fracture strength 10 MPa, light damping):
 # fragments fly across the ranks' regions and into the tool.
-BOX = ("vickers-0.1N-box.toml", [
+BOX = ("paper/vickers-0.1N-box.toml", [
     "--set", "sample.size=[6.0, 6.0, 4.0]", "--set", "sample.particles=2700", "--set", 'sample.file="@WORK@/box.h5"',
     "--set", "indenter.axis_x=3.0", "--set", "indenter.axis_y=3.0", "--set", "stage[0].speed=0.4",
     "--set", "stage[0].until_force=0.02", "--set", "stage[1].duration=1.0", "--set", "stage[2].speed=0.4",
@@ -352,7 +352,7 @@ def case_faults(r):
     if proc.stderr.count("error:") != 1:
         r.failures.append(f"bad input on 2 ranks printed {proc.stderr.count('error:')} errors:\n{proc.stderr}")
     # Effects that cannot run on several ranks are refused, naming the effect.
-    _, proc = r.run("vickers-0.1N-coupled.toml", ["--set", 'sample.file=""'], 2, 1, "coupled", expect=2, timeout=120)
+    _, proc = r.run("paper/vickers-0.1N-coupled.toml", ["--set", 'sample.file=""'], 2, 1, "coupled", expect=2, timeout=120)
     if "coupling" not in proc.stderr:
         r.failures.append(f"coupling on 2 ranks: {proc.stderr}")
     # Plasticity pools its strain moments over two rings of bonded neighbours, which the one-deep bond halo

@@ -52,7 +52,7 @@ def hydro_load(p):
 
 # case -> (scene, overrides, damping coefficient of the scene, [(label, summary key; a.b for a nested key)])
 CASES = {
-    "quickstart": ("quickstart.toml", QUICKSTART, 0.3,
+    "quickstart": ("paper/quickstart.toml", QUICKSTART, 0.3,
                    [("V_minus_um3", "V_minus_um3"), ("depth_um", "depth_um"), ("diagonal_um", "diagonal_um"),
                     ("particles.V_minus_um3", "imprint_lagrangian.V_minus_um3"),
                     ("particles.depth_um", "imprint_lagrangian.depth_um"),

@@ -24,7 +24,7 @@ using testing::readSummary;
 using testing::readText;
 using testing::runVitrum;
 
-const std::string kCoupled = std::string(VITRUM_SOURCE_DIR) + "/examples/vickers-0.1N-coupled.toml";
+const std::string kCoupled = std::string(VITRUM_SOURCE_DIR) + "/examples/paper/vickers-0.1N-coupled.toml";
 // The coupled 0.1 N scene on a hemisphere of R = 3.4 µm (1 500 particles of R̄ ≈ 0.2 µm, the quickstart's
 // reduced test sample) in a 9 µm CNEM box of ~500 nodes (h ≈ 1.3 µm, about 3 particle spacings: the
 // mediator needs ≳ 2) with a 1.2 µm zone; 2 mN at 100 m/s (2 % of the P-wave speed: enough for these

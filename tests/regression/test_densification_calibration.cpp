@@ -103,7 +103,7 @@ TEST(DensificationCalibrationCommand, BadOptionsExitWithCode2) {
     for (const std::string& bad :
          {std::string("--pressures 10"), std::string("--tolerances 0.5,1"), std::string("--start -1,0,0.03"),
           std::string("--particles 0"), std::string("--no-such-option"), std::string("--ramp 0"),
-          std::string("--scene ") + VITRUM_SOURCE_DIR + "/examples/quickstart.toml"}) {
+          std::string("--scene ") + VITRUM_SOURCE_DIR + "/examples/paper/quickstart.toml"}) {
         const std::string args = "calibrate densification " + bad + " --out " + dir.string() + " --output " +
                                  (dir / "c.toml").string();
         EXPECT_EQ(runVitrum(args, dir / "log.txt"), 2) << bad << "\n" << readText(dir / "log.txt");

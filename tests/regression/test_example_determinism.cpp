@@ -58,16 +58,16 @@ INSTANTIATE_TEST_SUITE_P(
                     "--set sample.particles=1500 --set sample.radius=3.4 --set 'sample.file=\"\"'"
                     " --set 'stage[0].speed=0.1' --set 'stage[0].until_force=0.004' --set 'stage[1].speed=0.1'"
                     " --set time.duration=200.0"},
-        ExampleCase{"vickers_densification", "vickers-0.5N.toml", VITRUM_SMALL_INDENT},
+        ExampleCase{"vickers_densification", "paper/vickers-0.5N.toml", VITRUM_SMALL_INDENT},
         // The DEM-only box reference of the domain study on a 6 × 6 × 4 µm box of 2 700 particles
         // (R̄ ≈ 0.2 µm), indented at the centre of its top face.
-        ExampleCase{"vickers_box", "vickers-0.1N-box.toml",
+        ExampleCase{"vickers_box", "paper/vickers-0.1N-box.toml",
                     "--set 'sample.size=[6.0, 6.0, 4.0]' --set sample.particles=2700"
                     " --set 'sample.file=\"\"' --set indenter.axis_x=3.0 --set indenter.axis_y=3.0"
                     " --set 'stage[0].speed=0.1' --set 'stage[0].until_force=0.004'"
                     " --set 'stage[1].duration=2.0' --set 'stage[2].speed=0.1'"
                     " --set 'stage[3].duration=5.0' --set time.duration=200.0"},
-        ExampleCase{"vickers_fracture_contacts", "vickers-0.1N.toml",
+        ExampleCase{"vickers_fracture_contacts", "paper/vickers-0.1N.toml",
                     VITRUM_SMALL_INDENT " --set fracture.hydrostatic_strength=0.02 --set 'effects.list=["
                                         "\"elasticity\", \"densification\", \"indenter\", \"damping\", \"fracture\"]'"}),
     [](const ::testing::TestParamInfo<ExampleCase>& info) { return std::string(info.param.name); });

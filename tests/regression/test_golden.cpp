@@ -57,14 +57,14 @@ double get(const nlohmann::json& m, const char* key) {
 }
 
 TEST(Golden, ReducedQuickstartImprint) {
-    // vitrum run examples/quickstart.toml --threads 1 --set sample.particles=3000 --set 'stage[0].speed=0.05'
+    // vitrum run examples/paper/quickstart.toml --threads 1 --set sample.particles=3000 --set 'stage[0].speed=0.05'
     //     --set 'stage[1].duration=5.0' --set 'stage[2].speed=0.05' --set 'stage[3].duration=20.0'
     //     --set time.duration=200.0
     // The quickstart's hemisphere (6 µm) and force (0.025 N) at 3 000 particles (R̄ ≈ 0.28 µm), 50 m/s in and
     // out (1 % of the P-wave speed), 5 ns hold, 20 ns relax; 2.2 s. (The 1 500-particle reduction of
     // test_indentation.cpp leaves a print 0.013 µm deep whose V⁻ scatters by 55 % between seeds: no golden
     // value there.)
-    const nlohmann::json m = measure("quickstart.toml",
+    const nlohmann::json m = measure("paper/quickstart.toml",
                                      "--set sample.particles=3000 --set 'stage[0].speed=0.05'"
                                      " --set 'stage[1].duration=5.0' --set 'stage[2].speed=0.05'"
                                      " --set 'stage[3].duration=20.0' --set time.duration=200.0",

@@ -19,7 +19,7 @@ using testing::readText;
 using testing::readSummary;
 using testing::runVitrum;
 
-const std::string kQuickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+const std::string kQuickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/paper/quickstart.toml";
 // The quickstart at a fifth of its particles on a hemisphere of the same particle size (R̄ ≈ 0.23 µm), to
 // 4 mN at 50 m/s (1 % of the P-wave speed: still quasi-static for these checks), a 5 ns hold.
 const std::string kReduced =

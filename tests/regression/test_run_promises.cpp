@@ -27,7 +27,7 @@ using testing::freshTempDir;
 using testing::readText;
 using testing::runVitrum;
 
-const std::string kScene = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+const std::string kScene = std::string(VITRUM_SOURCE_DIR) + "/examples/paper/quickstart.toml";
 const std::string kSmall = " --quiet --threads 1 --set sample.particles=300 --set 'sample.file=\"\"' --set output.maps=3";
 
 /// Every file under `dir` with its bytes.

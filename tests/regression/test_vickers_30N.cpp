@@ -1,4 +1,4 @@
-// The 30 N Vickers scene (issue 9, examples/vickers-30N.toml) reduced for CI: the same 120 µm hemisphere,
+// The 30 N Vickers scene (issue 9, examples/paper/vickers-30N.toml) reduced for CI: the same 120 µm hemisphere,
 // tool, stages and fracture strength, with 8 000 particles (R̄ ≈ 4.0 µm, packed in memory) and a 10 ns
 // relax. 5 000 particles (R̄ ≈ 4.7 µm) are too coarse for the cone's flank: it spans three surface bands
 // (3 R̄ each) and the fit gives 93°. The production run (100 000 particles) and the sensitivity study are
@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 TEST(Vickers30N, ReducedSceneFormsAConeCrackAndReportsItAtOnsetAndFullLoad) {
     const fs::path dir = testing::freshTempDir("vickers-30N");
-    const std::string args = "run " + std::string(VITRUM_SOURCE_DIR) + "/examples/vickers-30N.toml --out " +
+    const std::string args = "run " + std::string(VITRUM_SOURCE_DIR) + "/examples/paper/vickers-30N.toml --out " +
                              dir.string() +
                              " --quiet --set sample.particles=8000 --set 'sample.file=\"\"'"
                              " --set 'stage[3].duration=10.0'";

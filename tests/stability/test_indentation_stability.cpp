@@ -25,7 +25,7 @@ TEST(IndentationStability, ToolAtAHundredTimesTheExampleSpeedStaysFiniteAndBound
     // most work the tool can have done, F_max × depth_max (energy is only ever put in by the tool; anything
     // more is numerical creation).
     const fs::path dir = freshTempDir("indent-fast");
-    const std::string quickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+    const std::string quickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/paper/quickstart.toml";
     const std::string args = " --quiet --set sample.particles=1500 --set sample.radius=3.4"
                              " --set 'stage[0].until_force=0.004' --set 'stage[0].speed=0.5'"
                              " --set 'stage[1].duration=2.0' --set 'stage[2].speed=0.5'"
@@ -57,7 +57,7 @@ TEST(IndentationStability, FragmentsBrokenOffByTheToolHitItAndStayBoundedAndInsi
     // finite, the kinetic energy must stay below the work the tool did (F_max × depth_max: nothing else puts
     // energy in), and no fragment may escape: every final centre within twice the sample's radius.
     const fs::path dir = freshTempDir("indent-fragments");
-    const std::string quickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+    const std::string quickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/paper/quickstart.toml";
     const std::string args = " --quiet --threads 1 --set sample.particles=1500 --set sample.radius=3.4"
                              " --set 'effects.list=[\"elasticity\", \"densification\", \"indenter\", \"damping\","
                              " \"fracture\"]' --set fracture.hydrostatic_strength=0.02"

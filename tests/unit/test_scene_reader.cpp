@@ -576,7 +576,7 @@ TEST(SceneReader, ReadsFilesAndReportsMissingOnes) {
 // A relax stage's settle window: read in the scene's time unit, written back only when set (a scene without it
 // resolves as it did before the key existed), refused on other stage kinds and when it cannot fit the stage.
 TEST(SceneReader, RelaxSettleWindowIsReadRoundTripsAndIsChecked) {
-    const std::string quickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
+    const std::string quickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/paper/quickstart.toml";
     const Scene plain = readScene(quickstart);
     EXPECT_EQ(plain.stages[3].settle, 0.0);
     EXPECT_EQ(resolvedSceneToml(plain).find("settle"), std::string::npos);

@@ -48,13 +48,13 @@ run() {
     tail -n 1 "$out/$name.log"
 }
 # The box first: it packs and caches the packing the hemispheres are cut from.
-run box-0.1N examples/vickers-0.1N-box.toml "${box[@]}" "${fast[@]}" "${rest[@]}"
-run dome-0.1N examples/vickers-0.1N.toml "${cut[@]}" "${fast[@]}" "${rest[@]}"
-run coupled-0.1N examples/vickers-0.1N-coupled.toml "${cut[@]}" "${fast[@]}" "${rest[@]}"
-run box-0.1N-rest examples/vickers-0.1N-box.toml "${box[@]}" "${fast[@]}" "${rest[@]}" "${still[@]}"
-run box-0.5N examples/vickers-0.1N-box.toml "${box[@]}" "${half[@]}" "${fast[@]}" "${short[@]}"
-run dome-0.5N examples/vickers-0.5N.toml "${cut[@]}" "${half[@]}" "${fast[@]}" "${short[@]}"
-run coupled-0.5N examples/vickers-0.5N-coupled.toml "${cut[@]}" "${half[@]}" "${fast[@]}" "${short[@]}" \
+run box-0.1N examples/paper/vickers-0.1N-box.toml "${box[@]}" "${fast[@]}" "${rest[@]}"
+run dome-0.1N examples/paper/vickers-0.1N.toml "${cut[@]}" "${fast[@]}" "${rest[@]}"
+run coupled-0.1N examples/paper/vickers-0.1N-coupled.toml "${cut[@]}" "${fast[@]}" "${rest[@]}"
+run box-0.1N-rest examples/paper/vickers-0.1N-box.toml "${box[@]}" "${fast[@]}" "${rest[@]}" "${still[@]}"
+run box-0.5N examples/paper/vickers-0.1N-box.toml "${box[@]}" "${half[@]}" "${fast[@]}" "${short[@]}"
+run dome-0.5N examples/paper/vickers-0.5N.toml "${cut[@]}" "${half[@]}" "${fast[@]}" "${short[@]}"
+run coupled-0.5N examples/paper/vickers-0.5N-coupled.toml "${cut[@]}" "${half[@]}" "${fast[@]}" "${short[@]}" \
     --set 'coupling.zone_check="weighted"' --set 'stage[3].duration=5.0'
 here=$(dirname "$0")
 /usr/bin/python3 "$here/compare.py" "$out" | tee "$out/tables.md"
