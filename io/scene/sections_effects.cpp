@@ -165,11 +165,14 @@ const std::vector<Key<PlasticityParams>>& plasticityKeys() {
         choice<S>("law", &S::law,
                   "the cap law: a published silica (Bruns 2020, Kermouche 2008, Molnar 2017) or custom "
                   "(the keys below)"),
-        number<S>("shear_limit", &S::shear_limit, Unit::Stress, kPositive, "q_y, the flat shear limit (C2)")
-            .onlyWhen(custom, notWithLaw),
+        number<S>("shear_limit", &S::shear_limit, Unit::Stress, kPositive,
+                  "q_y, the flat shear limit of the particle law (C2); with a published law, the network's value "
+                  "that gives that law's yield")
+            .defaultIs("custom: 7.5 GPa; a published law: the calibration's fit to it, else its own q_y"),
         number<S>("cap_ratio", &S::cap_ratio, Unit::None, kPositive,
-                  "R: the cap's half-axes are R q_y along p and q_y along q (C3)")
-            .onlyWhen(custom, notWithLaw),
+                  "R: the cap's half-axes are R q_y along p and q_y along q (C3); with a published law, as "
+                  "shear_limit")
+            .defaultIs("custom: 1.066; a published law: the calibration's fit to it, else its own R"),
         choice<S>("hardening", &S::hardening, "p_b(e): Bruns's sigmoid (H1-H2) or linear p_b0 + H e")
             .onlyWhen(custom, notWithLaw),
         number<S>("onset_pressure", &S::onset_pressure, Unit::Stress, kPositive,
@@ -212,6 +215,7 @@ void readPlasticity(SceneReading& r) {
     PlasticityParams& p = r.scene.plasticity;
     // Not with densification or coupling: refused where effects.list is read (sections_sample.cpp).
     readKeys(table, plasticityKeys(), p, r);
+    const PlasticityParams given = p; // q_y and R given beside a published law are the network's own
     const std::optional<CalibrationFile>& cal = r.material_calibration;
     const bool own_calibration = cal && cal->micro.beam_young == scene.material.beam_young &&
                                  cal->micro.radius_ratio == scene.material.radius_ratio;
@@ -234,6 +238,18 @@ void readPlasticity(SceneReading& r) {
             p.shear_limit = fit->shear_limit;
             p.cap_ratio = fit->cap_ratio;
             cap_source = "q_y and R of the calibration's fit to this law's targets, its hardening as published";
+        }
+        bool overridden = false;
+        const auto keep = [&](const char* key, auto PlasticityParams::*field) {
+            if (table.find(key) != nullptr) {
+                p.*field = given.*field;
+                overridden = true;
+            }
+        };
+        keep("shear_limit", &PlasticityParams::shear_limit);
+        keep("cap_ratio", &PlasticityParams::cap_ratio);
+        if (overridden) {
+            cap_source = "its hardening as published, q_y and R as the table gives them";
         }
     }
     const bool bulk = table.find("bulk_modulus") != nullptr;

@@ -20,12 +20,7 @@ using testing::readSummary;
 using testing::runVitrum;
 
 const std::string kQuickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/paper/quickstart.toml";
-// The quickstart at a fifth of its particles on a hemisphere of the same particle size (R̄ ≈ 0.23 µm), to
-// 4 mN at 50 m/s (1 % of the P-wave speed: still quasi-static for these checks), a 5 ns hold.
-const std::string kReduced =
-    " --quiet --set sample.particles=1500 --set sample.radius=3.4 --set 'stage[0].until_force=0.004'"
-    " --set 'stage[0].speed=0.05' --set 'stage[1].duration=5.0' --set 'stage[2].speed=0.05'"
-    " --set 'stage[3].duration=20.0' --set time.duration=200.0";
+const std::string kReduced = testing::kReducedQuickstart;
 
 TEST(Indentation, ReducedQuickstartRunsEveryStageAndWritesTheImprintMetrics) {
     const fs::path dir = freshTempDir("indent");

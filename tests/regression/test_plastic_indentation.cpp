@@ -24,18 +24,15 @@ using testing::readText;
 using testing::runVitrum;
 
 const std::string kQuickstart = std::string(VITRUM_SOURCE_DIR) + "/examples/quickstart.toml";
-// 1 500 particles in a 3.4 µm hemisphere (R̄ ≈ 0.23 µm, the quickstart's), to 4 mN at 50 m/s, short hold and
-// relax; a weak cap (q_y 3 GPa, the rest of Bruns's constants) judged on one ring of neighbours.
-const std::string kReduced =
-    " --quiet --set sample.particles=1500 --set sample.radius=3.4 --set 'stage[0].until_force=0.004'"
-    " --set 'stage[0].speed=0.05' --set 'stage[1].duration=5.0' --set 'stage[2].speed=0.05'"
-    " --set 'stage[3].duration=20.0' --set time.duration=200.0 --set 'plasticity.law=\"custom\"'"
-    " --set plasticity.shear_limit=3.0 --set 'plasticity.averaging=\"neighbours\"'";
+// The reduced indentation of test_support with a weak cap (q_y 3 GPa, the rest of Bruns's constants) judged on
+// one ring of neighbours.
+const std::string kReduced = testing::kReducedQuickstart + " --set 'plasticity.law=\"custom\"'"
+                                                           " --set plasticity.shear_limit=3.0"
+                                                           " --set 'plasticity.averaging=\"neighbours\"'";
 const std::string kFracture = " --set fracture.hydrostatic_strength=0.02 --set 'effects.list=[\"elasticity\", "
                               "\"plasticity\", \"indenter\", \"damping\", \"fracture\"]'";
 
 nlohmann::json runReduced(const fs::path& dir, const std::string& args) {
-    const std::string log = (dir / "log.txt").string();
     EXPECT_EQ(runVitrum("run " + kQuickstart + " --out " + dir.string() + args, dir / "log.txt"), 0)
         << readText(dir / "log.txt");
     return readSummary(dir);

@@ -40,6 +40,14 @@ std::string readText(const std::filesystem::path& path);
 /// The summary.json a run wrote into `dir`.
 nlohmann::json readSummary(const std::filesystem::path& dir);
 
+/// The quickstart's overrides for a reduced indentation (tests/regression): 1 500 particles in a 3.4 µm
+/// hemisphere (R̄ ≈ 0.23 µm, the quickstart's), to 4 mN at 50 m/s (1 % of the P-wave speed: quasi-static
+/// enough for these checks), a 5 ns hold, up at 50 m/s, at most 20 ns of relax.
+inline const std::string kReducedQuickstart =
+    " --quiet --set sample.particles=1500 --set sample.radius=3.4 --set 'stage[0].until_force=0.004'"
+    " --set 'stage[0].speed=0.05' --set 'stage[1].duration=5.0' --set 'stage[2].speed=0.05'"
+    " --set 'stage[3].duration=20.0' --set time.duration=200.0";
+
 /// The named columns of a CSV file with a header row (one vector of values per name, in row order); a name
 /// that is not in the header gives an empty vector.
 std::vector<std::vector<double>> readCsvColumns(const std::filesystem::path& path,

@@ -466,10 +466,18 @@ TEST(SceneReader, EffectsAreCheckedByName) {
     expectMentions(errorOf("[effects]\nlist = [\"plasticity\", \"densification\"]\n[plasticity]\n"
                            "bulk_modulus = 43\nshear_modulus = 34\n[time]\nduration = 1\n"),
                    {"q.toml:2:23:", "key 'effects.list'", "effect \"plasticity\" cannot be combined with \"densification\""});
-    // A preset's parameters are the preset's: a custom key beside it is refused.
+    // A preset's hardening is the preset's: a hardening key beside it is refused. Its q_y and R are the
+    // network's (the calibration's fit by default) and may be given: the resolved scene writes them so.
     expectMentions(errorOf("[effects]\nlist = [\"plasticity\"]\n[plasticity]\nlaw = \"bruns2020\"\n"
-                           "shear_limit = 7.0\nbulk_modulus = 43\nshear_modulus = 34\n[time]\nduration = 1\n"),
-                   {"q.toml:5:15:", "key 'plasticity.shear_limit'", "not used with law = \"bruns2020\""});
+                           "onset_pressure = 7.0\nbulk_modulus = 43\nshear_modulus = 34\n[time]\nduration = 1\n"),
+                   {"q.toml:5:18:", "key 'plasticity.onset_pressure'", "not used with law = \"bruns2020\""});
+    const Scene given = parseScene("[effects]\nlist = [\"plasticity\"]\n[plasticity]\nlaw = \"bruns2020\"\n"
+                                   "shear_limit = 7.0\ncap_ratio = 0.9\nbulk_modulus = 43\nshear_modulus = 34\n"
+                                   "[time]\nduration = 1\n",
+                                   "q.toml");
+    EXPECT_EQ(given.plasticity.shear_limit, 7.0);
+    EXPECT_EQ(given.plasticity.cap_ratio, 0.9);
+    EXPECT_EQ(given.plasticity.onset_pressure, 8.0); // Bruns's, as published
     // Without an elastic law to judge the strain with: missing, with what to give.
     expectMentions(errorOf("[effects]\nlist = [\"plasticity\"]\n[time]\nduration = 1\n"),
                    {"missing key 'plasticity.bulk_modulus'", "[material] calibration"});
