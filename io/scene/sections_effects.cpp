@@ -198,7 +198,8 @@ const std::vector<Key<PlasticityParams>>& plasticityKeys() {
             .defaultIs("the calibration file's [plasticity] fit, else G of the target E, nu"),
         choice<S>("averaging", &S::averaging,
                   "the strain judged: the least-squares F of the particle's own bonds, or of its bonds pooled with "
-                  "those of its bonded neighbours (one ring) or of their neighbours too (two rings)"),
+                  "those of its bonded neighbours (one ring) or of their neighbours too (two rings); \"none\" is "
+                  "not stable under a tool (a contact particle's own F is ill-conditioned)"),
         integer<S>("check_every", &S::check_every, 1,
                    "steps between returns (the return is exact for any increment: 10 moves the virtual tests' "
                    "yield points by under 0.1 % and costs a tenth)"),
