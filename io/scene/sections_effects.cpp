@@ -293,7 +293,8 @@ Section plasticitySection() {
         member<&Scene::plasticity>, &plasticityKeys, readPlasticity);
     s.write = [](const Scene& scene, const Units& units, std::vector<std::string>& blocks) {
         if (scene.hasEffect(Effect::Plasticity)) {
-            std::string out = "[plasticity]   # elastic law: " + scene.plasticity.material_source + "\n";
+            // The source of K0, K', G, q_y, R is the run log's (it changes once they are written out here).
+            std::string out = "[plasticity]   # as resolved: the elastic law and the network's q_y, R\n";
             writeKeys(out, plasticityKeys(), scene.plasticity, units);
             blocks.push_back(out);
         }
