@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <type_traits>
 
 #include "solver/errors.hpp"
 
@@ -254,41 +255,29 @@ std::vector<std::vector<std::byte>> Comm::allToAll(const std::vector<std::vector
 #endif
 }
 
-double Comm::maxOf(double value) const {
-#ifdef VITRUM_HAVE_MPI
-    if (active_) {
-        check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
-    }
-#endif
-    return value;
-}
+namespace {
+enum class Reduction { Max, Min, Sum };
 
-long long Comm::maxOf(long long value) const {
+/// One value reduced over every rank when the run has ranks (collective), else the value itself.
+template <class T> T allReduce(bool active, T value, Reduction op) {
 #ifdef VITRUM_HAVE_MPI
-    if (active_) {
-        check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG_LONG, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce");
+    if (active) {
+        const MPI_Op mpi_op = op == Reduction::Max ? MPI_MAX : op == Reduction::Min ? MPI_MIN : MPI_SUM;
+        const MPI_Datatype type = std::is_same_v<T, double> ? MPI_DOUBLE : MPI_LONG_LONG;
+        check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, type, mpi_op, MPI_COMM_WORLD), "MPI_Allreduce");
     }
+#else
+    (void)active;
+    (void)op;
 #endif
     return value;
 }
+} // namespace
 
-long long Comm::minOf(long long value) const {
-#ifdef VITRUM_HAVE_MPI
-    if (active_) {
-        check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG_LONG, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce");
-    }
-#endif
-    return value;
-}
-
-long long Comm::sumOf(long long value) const {
-#ifdef VITRUM_HAVE_MPI
-    if (active_) {
-        check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce");
-    }
-#endif
-    return value;
-}
+double Comm::maxOf(double value) const { return allReduce(active_, value, Reduction::Max); }
+long long Comm::maxOf(long long value) const { return allReduce(active_, value, Reduction::Max); }
+long long Comm::minOf(long long value) const { return allReduce(active_, value, Reduction::Min); }
+long long Comm::sumOf(long long value) const { return allReduce(active_, value, Reduction::Sum); }
 
 void Comm::barrier() const {
 #ifdef VITRUM_HAVE_MPI
