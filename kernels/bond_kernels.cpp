@@ -104,6 +104,10 @@ void computeBondForces(const IncidenceView& inc, const BondView& b, const Partic
     beamPass(b, p, pass);
 }
 
+double bondStrainEnergy(const BondView& b, const ParticleView& p, std::size_t k) {
+    return lawOf(b, k).energy(kinematicsOf(b, p, k));
+}
+
 double beamStrainEnergy(const BondView& b, const ParticleView& p, const ReduceSpan& span) {
     const std::vector<std::size_t> bounds = chunksByOwner(b.i, b.n, p.n);
     return parallelReduceSegments("bonds.strain_energy", bounds, 0.0, [&](std::size_t k, double& acc) {

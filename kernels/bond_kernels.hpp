@@ -99,6 +99,8 @@ void computeBondForces(const IncidenceView& incidence, const BondView& bonds, co
 /// is in the particles [0, particles.n), ascending in i (every bond on one process; with a distributed span the
 /// process's owned bonds, the result global).
 double beamStrainEnergy(const BondView& bonds, const ParticleView& particles, const ReduceSpan& span = {});
+/// The strain energy of bond k alone (the beam law at the current kinematics, broken or not), nJ.
+double bondStrainEnergy(const BondView& bonds, const ParticleView& particles, std::size_t k);
 /// Same, with the densified bonds' reference strains (elastic energy only; the slider's dissipation is not in it).
 double beamStrainEnergy(const BondView& bonds, const ParticleView& particles, const DensificationView& state,
                         const ReduceSpan& span = {});

@@ -71,21 +71,13 @@ PlasticStateView stateView(Model& m, Plasticity& fx) {
 
 PlasticReturnTotals plasticReturn(Model& m, Plasticity& fx) {
     const RestStateView bonds = restStateView(m);
-    // The reference moments depend only on the intact bonds: rebuilt when fracture broke one since.
-    long long breaks = 0;
-    for (const std::int32_t b : m.particles.broken_bonds) { // empty without fracture; in index order
-        breaks += b;
-    }
-    if (breaks != fx.reference_breaks) {
-        referenceInverse(m.incidence.view(), bonds, m.particles.initial_position.data(), fx.law.rings, fx.strain);
-        fx.reference_breaks = breaks;
-    }
-    pooledDeformation(m.incidence.view(), bonds, m.particles.initial_position.data(), m.particles.position.data(),
-                      fx.law.rings, fx.strain, fx.deformation.data());
+    elasticDeformation(m.incidence.view(), bonds, m.particles.orientation.data(), m.particles.position.data(),
+                       fx.law.rings, fx.strain, fx.deformation.data());
     const PlasticStateView state = stateView(m, fx);
-    fx.last = capReturnPass(fx.law, m.particles.radius.data(), state);
+    fx.last = capReturnPass(fx.law, state);
     if (fx.last.yielded > 0) {
-        moveRestStates(bonds, state, m.particles.orientation.data(), m.particles.position.data());
+        fx.last.dissipation = moveRestStates(m.bonds.view(), m.particles.view(), m.incidence.view(), bonds, fx.law,
+                                             state, fx.strain);
     }
     return fx.last;
 }
