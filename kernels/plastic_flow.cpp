@@ -1,9 +1,10 @@
 #include "kernels/plastic_flow.hpp"
 
 #include <algorithm>
+#include <vector>
+
 #include <cmath>
 #include <numbers>
-#include <vector>
 
 #include <Eigen/LU>
 
@@ -16,7 +17,6 @@ namespace vitrum {
 namespace {
 
 using Mat3 = Eigen::Matrix3d;
-using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
 
 bool intact(const RestStateView& b, std::int32_t bond) { return !b.broken || !b.broken[bond]; }
 
@@ -35,12 +35,24 @@ Mat3 fromVoigt(const double* v) {
     return m;
 }
 
-/// The rest chord r_b of bond k, i → j (P0), µm.
-Vec3 restChord(const RestStateView& b, std::size_t k, const double* orientation) {
-    const auto i = static_cast<std::size_t>(b.i[k]);
-    const auto j = static_cast<std::size_t>(b.j[k]);
-    const Vec3 n = loadQuat(orientation, i) * load3(b.axis_i, k) + loadQuat(orientation, j) * load3(b.axis_j, k);
-    return b.rest_length[k] * n.normalized();
+} // namespace
+
+namespace {
+
+/// Σ over the intact bonds of p of f(dX, other) into `out` (width doubles per particle), in incidence order.
+template <int W, class F>
+void perParticleBondSum(const IncidenceView& inc, const RestStateView& bonds, const char* label, double* out, F f) {
+    parallelFor(label, inc.n, [&](std::size_t p) {
+        double sum[W] = {};
+        for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
+            const std::int32_t bond = inc.entry[k] >> 1;
+            if (!intact(bonds, bond)) {
+                continue;
+            }
+            f(p, static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]), sum);
+        }
+        std::copy(sum, sum + W, out + W * p);
+    });
 }
 
 /// One ring of pooling (P2): out_i = in_i + Σ_j in_j over the intact bonded neighbours j, W columns.
@@ -67,68 +79,74 @@ void poolOnce(const IncidenceView& inc, const RestStateView& bonds, const double
 template <int W>
 void pool(const IncidenceView& inc, const RestStateView& bonds, int rings, std::vector<double>& data,
           std::vector<double>& work) {
-    work.resize(data.size());
     for (int ring = 0; ring < rings; ++ring) {
         poolOnce<W>(inc, bonds, data.data(), work.data());
         data.swap(work);
     }
 }
 
-/// The stretch of the rest chords that relieves the return's ΔE^p (P5): M − I, six components.
-void restIncrement(const double* dep, double j, double* out) {
-    const double de = -(dep[0] + dep[1] + dep[2]); // Δe: ΔE^p = dev ΔE^p − Δe/3 I (cap_plasticity.hpp R2)
-    const double scale = std::exp(-de / 3.0);
-    const double weight = std::pow(j, -2.0 / 3.0);
-    for (int k = 0; k < 6; ++k) {
-        out[k] = k < 3 ? scale * (1.0 + weight * (dep[k] + de / 3.0)) - 1.0 : scale * weight * dep[k];
-    }
-}
-
 } // namespace
 
-void elasticDeformation(const IncidenceView& inc, const RestStateView& bonds, const double* orientation,
-                        const double* position, int rings, StrainWork& work, double* deformation) {
+void referenceInverse(const IncidenceView& inc, const RestStateView& bonds, const double* initial, int rings,
+                      StrainWork& work) {
     work.a.resize(6 * inc.n);
-    work.b.resize(9 * inc.n);
-    // (P1): each particle's own sums, in incidence order. r and x flip sign together at end j, so r rᵀ and
-    // x rᵀ do not depend on which end the particle is.
-    parallelFor("plasticity.moments", inc.n, [&](std::size_t p) {
-        Mat3 a = Mat3::Zero();
-        Mat3 b = Mat3::Zero();
-        for (std::int32_t e = inc.offset[p]; e < inc.offset[p + 1]; ++e) {
-            const std::int32_t bond = inc.entry[e] >> 1;
-            if (!intact(bonds, bond)) {
-                continue;
-            }
-            const auto k = static_cast<std::size_t>(bond);
-            const Vec3 r = restChord(bonds, k, orientation);
-            const Vec3 x = load3(position, static_cast<std::size_t>(bonds.j[k])) -
-                           load3(position, static_cast<std::size_t>(bonds.i[k]));
-            a += r * r.transpose();
-            b += x * r.transpose();
-        }
-        toVoigt(a, work.a.data() + 6 * p);
-        Eigen::Map<RowMat3>(work.b.data() + 9 * p) = b;
-    });
+    work.scratch.resize(9 * inc.n);
+    work.inverse.resize(9 * inc.n);
+    perParticleBondSum<6>(inc, bonds, "plasticity.reference", work.a.data(),
+                          [&](std::size_t p, std::size_t other, double* sum) {
+                              const Vec3 dX = load3(initial, other) - load3(initial, p);
+                              const Mat3 a = dX * dX.transpose();
+                              double v[6];
+                              toVoigt(a, v);
+                              for (int c = 0; c < 6; ++c) sum[c] += v[c];
+                          });
     pool<6>(inc, bonds, rings, work.a, work.scratch);
-    pool<9>(inc, bonds, rings, work.b, work.scratch);
-    parallelFor("plasticity.gradient", inc.n, [&](std::size_t p) {
+    parallelFor("plasticity.reference", inc.n, [&](std::size_t p) {
         const Mat3 a = fromVoigt(work.a.data() + 6 * p);
         const double scale = a.trace();
         // A well-spread neighbourhood has det(a) ≈ (tr a / 3)³; below 1e-6 of tr³ it is (nearly) coplanar.
-        const bool spans = a.determinant() > 1e-6 * scale * scale * scale;
-        const Mat3 b = Eigen::Map<const RowMat3>(work.b.data() + 9 * p);
-        Eigen::Map<RowMat3>(deformation + 9 * p) = spans ? Mat3(b * a.inverse()) : Mat3(Mat3::Zero()); // (P2)
+        const Mat3 inverse = a.determinant() > 1e-6 * scale * scale * scale ? Mat3(a.inverse()) : Mat3(Mat3::Zero());
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) {
+                work.inverse[9 * p + 3 * r + c] = inverse(r, c);
+            }
+        }
+    });
+    work.a.resize(9 * inc.n); // the B moments' buffer from now on
+}
+
+void pooledDeformation(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
+                       const double* current, int rings, StrainWork& work, double* deformation) {
+    work.a.resize(9 * inc.n);
+    work.scratch.resize(9 * inc.n);
+    perParticleBondSum<9>(inc, bonds, "plasticity.moments", work.a.data(),
+                          [&](std::size_t p, std::size_t other, double* sum) {
+                              const Vec3 dX = load3(initial, other) - load3(initial, p);
+                              const Vec3 dx = load3(current, other) - load3(current, p);
+                              for (int r = 0; r < 3; ++r) {
+                                  for (int c = 0; c < 3; ++c) sum[3 * r + c] += dx[r] * dX[c];
+                              }
+                          });
+    pool<9>(inc, bonds, rings, work.a, work.scratch);
+    parallelFor("plasticity.gradient", inc.n, [&](std::size_t p) {
+        const Mat3 b = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.a.data() + 9 * p);
+        const Mat3 ainv = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.inverse.data() + 9 * p);
+        const Mat3 f = b * ainv; // (P2); zero where the pooled chords do not span 3D
+        Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(deformation + 9 * p) = f;
     });
 }
 
-void trialStress(const ElasticMetric& metric, const double* g, double* stress) noexcept {
-    const Mat3 f = Eigen::Map<const RowMat3>(g);
+void trialStress(const ElasticMetric& metric, const double* g, const double* plastic_strain, double compaction,
+                 double* stress) noexcept {
+    const Mat3 f = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g);
     const Mat3 green = 0.5 * (f.transpose() * f - Mat3::Identity()); // (P3)
     double elastic[6];
     toVoigt(green, elastic);
+    for (int k = 0; k < 6; ++k) {
+        elastic[k] -= plastic_strain[k];
+    }
     const double mean = (elastic[0] + elastic[1] + elastic[2]) / 3.0;
-    const double p = metric.pressure(-std::log(f.determinant())); // (P4)
+    const double p = metric.pressure(-std::log(f.determinant()) - compaction); // (P4)
     for (int k = 0; k < 6; ++k) {
         stress[k] = 2.0 * metric.shear * (elastic[k] - (k < 3 ? mean : 0.0)) - (k < 3 ? p : 0.0);
     }
@@ -143,21 +161,25 @@ PlasticReturnTotals capReturnPass(const PlasticFlowLaw& law, PlasticStateView s)
         }
         const double* g = s.deformation + 9 * p;
         if (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0) {
-            return; // no F_e: the pooled rest chords do not span 3D
+            return; // no F̄: the pooled chords do not span 3D (a zero inverse gives a zero row)
         }
+        const Mat3 f = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(g); // (P2)
+        double* ep = s.plastic_strain + 6 * p;
         double trial[6];
-        trialStress(law.metric, g, trial); // (P3)-(P4)
+        trialStress(law.metric, g, ep, s.compaction[p], trial); // (P3)-(P4)
         const CapTensorReturn r =
             law.cap.returnMap(trial, CapState{s.compaction[p], s.plastic_shear[p]}, law.metric);
         if (!r.invariants.plastic) {
             return;
         }
         for (int k = 0; k < 6; ++k) {
-            s.plastic_strain[6 * p + k] += r.plastic_strain[k];
+            ep[k] += r.plastic_strain[k];
         }
-        restIncrement(r.plastic_strain, Eigen::Map<const RowMat3>(g).determinant(), s.increment + 6 * p); // (P5)
         s.compaction[p] = r.invariants.state.compaction;
         s.plastic_shear[p] = r.invariants.state.shear_strain;
+        const Mat3 inverse = f.inverse(); // (P5)
+        const Mat3 spatial = inverse.transpose() * fromVoigt(r.plastic_strain) * inverse;
+        toVoigt(spatial, s.increment + 6 * p);
         s.yielded[p] = 1;
         acc.yielded += 1;
     });
@@ -174,11 +196,18 @@ double moveRestStates(const BondView& beams, const ParticleView& particles, cons
         }
         double de[6];
         bondPlasticIncrement(s.increment + 6 * i, s.increment + 6 * j, de); // (S1)
+        const Vec3 d = load3(particles.position, j) - load3(particles.position, i);
+        // (P6) Δε_i is pushed forward by the whole F; the rest state lives in the unloaded configuration,
+        // whose chord is l₀, not l: the bond takes (l/l₀)² Δε_b, the exact rest-length change of an affine
+        // field to first order (without it a bond compressed elastically by 8 % compacted 17 % too much).
+        const double stretch = d.squaredNorm() / (b.rest_length[k] * b.rest_length[k]);
+        for (double& c : de) {
+            c *= stretch;
+        }
         const double before = bondStrainEnergy(beams, particles, k);
-        const Vec3 direction = restChord(b, k, particles.orientation).normalized(); // n̄ of (P0)
         const BondRestState old{b.rest_length[k], load3(b.axis_i, k), load3(b.axis_j, k)};
         const BondRestState now = plasticRestState(old, de, loadQuat(particles.orientation, i),
-                                                   loadQuat(particles.orientation, j), direction); // (S2)
+                                                   loadQuat(particles.orientation, j), d.normalized()); // (S2)
         b.rest_length[k] = now.rest_length;
         store3(b.axis_i, k, now.axis_i);
         store3(b.axis_j, k, now.axis_j);

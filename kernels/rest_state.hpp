@@ -15,13 +15,14 @@
 // The rest chord maps as the material does, exactly (not to first order):
 //   r₀ ← (I + Δε_b) r₀                                                                              (S2)
 // For each end, its rest direction n = q a maps to n' = (I + Δε_b) n/|(I + Δε_b) n| and a' = q⁻¹ n'; the
-// rest length to l₀' = l₀ |(I + Δε_b) n̄| along the bond's rest direction n̄, the normalised mean of q_i a_i and
-// q_j a_j (plastic_flow.hpp P0: the rest chord the elastic strain is read on). In a stress-free state
-// n̄ = n_i = n_j and this is (S2) exactly: for an affine plastic increment applied to every particle, with the
-// orientations unchanged (a symmetric Δε has no spin), the beams are stress-free after the update as before
-// it. Under load (n_i ≠ n_j by the bending angles) the rest chord l₀ n̄ maps by (S2) to first order in the
-// angles. The reference note's l₀(1 + n·Δε·n) and rotation ω = n × ((I − nn)Δε n) are (S2) to first order in
-// Δε; their second-order error, |Δε n|²/2, would accumulate step after step, so (S2) is used as it stands.
+// rest length to l₀' = l₀ |(I + Δε_b) x̂| along the current chord x̂. In a stress-free state x̂ = n_i = n_j and
+// this is (S2) exactly: for an affine plastic increment applied to every particle, with the orientations
+// unchanged (a symmetric Δε has no spin), the beams are stress-free after the update as before it. In a
+// loaded state the choice of x̂ keeps the elastic axial strain (l − l₀)/l₀ exactly when the same increment
+// also moves the particles (l' = l |(I + Δε_b) x̂|); the bending angles change by O(|Δε| θ) and the twist
+// not at all. The reference note's l₀(1 + x̂·Δε·x̂) and rotation ω = n × ((I − nn)Δε n) are (S2) to first
+// order in Δε; their second-order error, |Δε n|²/2, would accumulate step after step, so (S2) is used as it
+// stands.
 //
 // Components of Δε: xx yy zz xy yz xz, tensor (not engineering) shear, as the cap law returns them
 // (kernels/cap_plasticity.hpp). Validity: |Δε| < 1 (I + Δε invertible); any size of rotation of the ends.
@@ -53,11 +54,11 @@ struct BondRestState {
 };
 
 /// The rest state after the bond's plastic increment `de` (S2), with the ends' current orientations and the
-/// bond's unit rest direction n̄ (i → j) along which the rest length is measured.
+/// current unit chord x̂ (i → j).
 inline BondRestState plasticRestState(const BondRestState& old, const double* de, const Quat& qi, const Quat& qj,
-                                      const Vec3& direction) noexcept {
+                                      const Vec3& chord) noexcept {
     BondRestState r;
-    r.rest_length = old.rest_length * plasticStretch(de, direction).norm();
+    r.rest_length = old.rest_length * plasticStretch(de, chord).norm();
     r.axis_i = qi.conjugate() * plasticStretch(de, qi * old.axis_i).normalized();
     r.axis_j = qj.conjugate() * plasticStretch(de, qj * old.axis_j).normalized();
     return r;

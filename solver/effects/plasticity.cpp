@@ -71,8 +71,17 @@ PlasticStateView stateView(Model& m, Plasticity& fx) {
 
 PlasticReturnTotals plasticReturn(Model& m, Plasticity& fx) {
     const RestStateView bonds = restStateView(m);
-    elasticDeformation(m.incidence.view(), bonds, m.particles.orientation.data(), m.particles.position.data(),
-                       fx.law.rings, fx.strain, fx.deformation.data());
+    // The reference moments depend only on the intact bonds: rebuilt when fracture broke one since.
+    long long breaks = 0;
+    for (const std::int32_t b : m.particles.broken_bonds) { // empty without fracture; in index order
+        breaks += b;
+    }
+    if (breaks != fx.reference_breaks) {
+        referenceInverse(m.incidence.view(), bonds, m.particles.initial_position.data(), fx.law.rings, fx.strain);
+        fx.reference_breaks = breaks;
+    }
+    pooledDeformation(m.incidence.view(), bonds, m.particles.initial_position.data(), m.particles.position.data(),
+                      fx.law.rings, fx.strain, fx.deformation.data());
     const PlasticStateView state = stateView(m, fx);
     fx.last = capReturnPass(fx.law, state);
     if (fx.last.yielded > 0) {

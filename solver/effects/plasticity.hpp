@@ -1,10 +1,8 @@
 // Effect `plasticity` (issue 26; kernels/plastic_flow.hpp, kernels/cap_plasticity.hpp): silica's cap law on
-// the elastic strain of each particle's bonds; the plastic strain it returns moves their rest states, and the
-// energy the move releases is the dissipation.
+// each particle's kinematic strain; the plastic strain it returns moves the rest states of the particle's bonds.
 // Its phase:
 //   plasticity.return  every check_every steps, after the drift (and the tool's move), before the bond loads:
-//                      the pooled moments of the rest chords, the return of every particle, then the rest states
-//                      of the bonds of the yielded ones and the energy they released
+//                      the pooled strain moments, the return of every particle, then the rest states of the bonds of the yielded ones
 //                      (the step's bond loads then see the moved rest states)
 // Its per-particle state (E^p, e, γ̄, plastic work) lives in the particle store, sized by buildPlasticity; the
 // work arrays (F, the spatial increment, the yielded flags) here, rebuilt at each return.
@@ -33,9 +31,10 @@ enum class CapLaw;
 struct Plasticity {
     PlasticFlowLaw law;
     long check_every = 1;
-    StrainWork strain;                 ///< the moments, pooling buffers and the released energy per bond
-    std::vector<double> deformation;   ///< 9n work: F_e (P2)
-    std::vector<double> increment;     ///< 6n work: ΔE^p of the last return
+    StrainWork strain;                 ///< the pooled reference inverse (cached) and the pooling buffers
+    long long reference_breaks = -1;   ///< broken bonds when strain.inverse was built (−1: not yet)
+    std::vector<double> deformation;   ///< 9n work: F̄ (P2)
+    std::vector<double> increment;     ///< 6n work: Δε_i of the last return
     std::vector<std::uint8_t> yielded; ///< n work
     PlasticReturnTotals last;          ///< of the last return (not restored by a restart: recomputed at the next)
 };
@@ -52,7 +51,7 @@ std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model);
 /// Adds plasticity.return.
 void addPlasticityPhase(Step& step);
 
-/// One return now (what the phase does on its steps): F_e, the return, the rest states and their dissipation.
+/// One return now (what the phase does on its steps): F, the return, the rest states and their dissipation.
 PlasticReturnTotals plasticReturn(Model& model, Plasticity& plasticity);
 
 /// Totals of the plastic state.

@@ -31,7 +31,7 @@ struct Particles {
     std::vector<std::int64_t> release_step; ///< n, step of release, −1 while intact
     std::vector<std::int32_t> broken_bonds; ///< n, broken incident bonds
     // Effect `plasticity` only (kernels/plastic_flow.hpp); empty otherwise. Sized by enablePlasticity().
-    std::vector<double> plastic_strain; ///< 6n, E^p = Σ ΔE^p of the returns, global axes (xx yy zz xy yz xz); measurements only
+    std::vector<double> plastic_strain; ///< 6n, E^p, Green–Lagrange in the initial frame (xx yy zz xy yz xz)
     std::vector<double> compaction;     ///< n, e, plastic volumetric log-strain (compaction positive)
     std::vector<double> plastic_shear;  ///< n, γ̄, accumulated equivalent deviatoric plastic strain
     std::vector<double> plastic_work;   ///< n, W: half the energy its moved bonds released, per volume, GPa (= nJ/µm³)

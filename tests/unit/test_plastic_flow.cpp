@@ -1,10 +1,10 @@
 // The plastic flow of the particles (kernels/plastic_flow.hpp): on an FCC box deformed affinely (every
-// particle x = A X + c, no dynamics), the elastic strain read on the rest chords is the exact one, the return
-// of every particle is the cap law's own (kernels/cap_plasticity.hpp), the moved rest states put the stress
-// on the surface, unloading is elastic, the booked dissipation is the network's strain-energy drop, and the
+// particle x = A X + c, no dynamics), the kinematic strain is the exact one, the return of every particle is
+// the cap law's own (kernels/cap_plasticity.hpp) and lands on the surface, unloading is elastic, the bonds'
+// rest states follow the plastic strain, the booked dissipation is the network's strain-energy drop, and the
 // pass does not depend on the thread count.
 //
-// Tolerances: F_e (P2) is the least-squares fit of an exactly affine field, so it is A to round-off of sums of
+// Tolerances: F (P1) is the least-squares fit of an exactly affine field, so it is A to round-off of sums of
 // ~12 products of O(1) numbers (1e-13 used). The return on an affine field sees the same trial stress as
 // the scalar law called directly, up to that round-off times the moduli (~1e-11 GPa): the compactions are
 // compared at 1e-12 (e is O(0.01–0.1), its sensitivity to p is 1/(K + H) ≈ 0.01 per GPa) and the yield
@@ -65,8 +65,9 @@ struct Fixture {
         }
     }
     void poolNow() {
-        elasticDeformation(model.incidence.view(), bonds(), model.particles.orientation.data(),
-                           model.particles.position.data(), law.rings, work, deformation.data());
+        referenceInverse(model.incidence.view(), bonds(), model.particles.initial_position.data(), law.rings, work);
+        pooledDeformation(model.incidence.view(), bonds(), model.particles.initial_position.data(),
+                          model.particles.position.data(), law.rings, work, deformation.data());
     }
     PlasticReturnTotals returnNow() {
         poolNow();
@@ -82,7 +83,8 @@ struct Fixture {
 /// The trial stress of an affine F on a virgin particle (P3–P4).
 void trialOf(const Mat3& f, double* trial, const ElasticMetric& metric = ElasticMetric{kBulk, 0.0, kShear}) {
     const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> g = f;
-    trialStress(metric, g.data(), trial);
+    const double virgin[6] = {0, 0, 0, 0, 0, 0};
+    trialStress(metric, g.data(), virgin, 0.0, trial);
 }
 
 TEST(PlasticFlow, AnAffineDeformationHasItsExactGradientAtEveryPoolingDepth) {
@@ -111,13 +113,14 @@ TEST(PlasticFlow, AnAffineDeformationHasItsExactGradientAtEveryPoolingDepth) {
 
 TEST(PlasticFlow, HydrostaticCompressionReturnsToTheCapAsTheLawDoesAndUnloadsElastically) {
     // With the linear metric and with Murnaghan's (K' = 1.22, the packing's measured stiffening): the particle
-    // returns as the law does, and its stress re-read from the moved rest chords (P0–P4) is on the surface.
+    // returns as the law does, and its stress re-evaluated from the new state (P4) is on the surface.
     for (const double slope : {0.0, 1.22}) {
         Fixture fx;
         fx.law.metric.bulk_slope = slope;
         // 9 % linear compression: v = −3 ln 0.91 = 0.283, p_trial = 11.3 GPa (linear), 12.9 GPa (K' 1.22):
         // beyond p_b0 = 8 GPa.
         const Mat3 f = 0.91 * Mat3::Identity();
+        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> g = f;
         fx.deform(f);
         const PlasticReturnTotals totals = fx.returnNow();
         double trial[6];
@@ -125,27 +128,25 @@ TEST(PlasticFlow, HydrostaticCompressionReturnsToTheCapAsTheLawDoesAndUnloadsEla
         const CapTensorReturn expected = fx.law.cap.returnMap(trial, CapState{}, fx.law.metric);
         ASSERT_TRUE(expected.invariants.on_cap);
         ASSERT_GT(expected.invariants.d_compaction, 0.005);
-        const Particles& p = fx.model.particles;
         long long checked = 0;
+        const Particles& p = fx.model.particles;
         for (std::size_t q = 0; q < p.size(); ++q) {
-            ASSERT_TRUE(fx.hasF(q)) << "particle " << q; // two rings: every FCC particle has F_e
+            if (!fx.hasF(q)) {
+                EXPECT_EQ(p.compaction[q], 0.0);
+                continue;
+            }
             ++checked;
             ASSERT_EQ(fx.yielded[q], 1);
             EXPECT_NEAR(p.compaction[q], expected.invariants.state.compaction, 1e-12) << "particle " << q;
+            // On the surface after the return: F(S(E − E^p, e)) = 0 to the round-off of the stresses (GPa).
+            double s6[6];
+            trialStress(fx.law.metric, g.data(), p.plastic_strain.data() + 6 * q, p.compaction[q], s6);
+            const StressInvariants inv = stressInvariants(s6);
+            EXPECT_NEAR(fx.law.cap.yieldFunction(inv.pressure, inv.von_mises, p.compaction[q]), 0.0, 1e-9);
         }
         EXPECT_EQ(totals.yielded, checked);
-        // Every particle flowed alike, so every bond took the same M (P5) and the re-read strain is the
-        // returned one: v' = v − Δe exactly, no deviator; F(S) = 0 to the round-off of the stresses (GPa).
-        EXPECT_GT(fx.moveNow(), 0.0);
-        fx.poolNow();
-        for (std::size_t q = 0; q < p.size(); ++q) {
-            double s6[6];
-            trialStress(fx.law.metric, fx.deformation.data() + 9 * q, s6);
-            const StressInvariants inv = stressInvariants(s6);
-            ASSERT_NEAR(fx.law.cap.yieldFunction(inv.pressure, inv.von_mises, p.compaction[q]), 0.0, 1e-9)
-                << "particle " << q;
-            EXPECT_NEAR(inv.pressure, expected.invariants.pressure, 1e-9) << "particle " << q;
-        }
+        EXPECT_GT(checked, static_cast<long long>(p.size() * 9 / 10));
+
         // Unloading to the initial shape: v = −e, a tension inside the shear line (q = 0): no particle flows,
         // the state stays.
         const std::vector<double> compaction = p.compaction;
@@ -177,11 +178,10 @@ TEST(PlasticFlow, SimpleShearFlowsOnTheShearLineWithoutCompaction) {
     }
 }
 
-TEST(PlasticFlow, TheRestStatesFollowTheCompactionAndTheBooksHoldTheNetworksEnergyDrop) {
-    // An affine compaction of every particle (all returned alike) scales every rest length by exp(−Δe/3)
-    // (P5, S2), the exact volumetric relief. The dissipation booked is what the move took out of the network:
-    // Σ D_b equals the drop of the beams' total strain energy at the same positions (a conservation law), and
-    // Σ Ω W books it to the particles.
+TEST(PlasticFlow, TheRestStatesFollowTheAffinePlasticStrainAndTheBooksHoldTheNetworksEnergyDrop) {
+    // An affine compaction of every particle (all returned alike) moves every interior bond's rest length by
+    // the same factor |(I + Δε) x̂|, Δε the spatial increment (P5): the bond between two particles with the
+    // same Δε gets exactly it (S1). Checked against Δε computed here from the law's ΔE^p.
     Fixture fx;
     const Mat3 f = 0.91 * Mat3::Identity();
     fx.deform(f);
@@ -190,26 +190,34 @@ TEST(PlasticFlow, TheRestStatesFollowTheCompactionAndTheBooksHoldTheNetworksEner
     const double u0 = beamStrainEnergy(fx.model.bonds.view(), fx.model.particles.view());
     const double released = fx.moveNow();
     const double u1 = beamStrainEnergy(fx.model.bonds.view(), fx.model.particles.view());
-    double trial[6];
-    trialOf(f, trial);
-    const CapTensorReturn r = fx.law.cap.returnMap(trial, CapState{}, kBulk, kShear);
-    const double factor = std::exp(-r.invariants.d_compaction / 3.0);
-    const Bonds& b = fx.model.bonds;
-    for (std::size_t k = 0; k < b.size(); ++k) {
-        // Round-off of |(I + Δε) n̄| with Δε from an exp: a few ulp (1e-14).
-        ASSERT_NEAR(b.rest_length[k] / before[k], factor, 1e-14) << "bond " << k;
-    }
-    EXPECT_LT(factor, 0.999);
-    // Sums of ~5 000 bond energies of O(1e-4) nJ each in different orders: relative round-off ~1e-13.
+    // The dissipation booked is what the move took out of the network: Σ D_b is the drop of the beams' total
+    // strain energy at the same positions (a conservation law), and Σ Ω W books it to the particles. Sums of
+    // ~5 000 bond energies in different orders: relative round-off ~1e-13.
     EXPECT_GT(released, 0.0);
     EXPECT_NEAR(released, u0 - u1, 1e-12 * u0);
     double booked = 0.0;
-    const Particles& p = fx.model.particles;
-    for (std::size_t q = 0; q < p.size(); ++q) {
-        const double R = p.radius[q];
-        booked += fx.law.volume_factor * (4.0 / 3.0) * std::numbers::pi * R * R * R * p.plastic_work[q];
+    for (std::size_t q = 0; q < fx.model.particles.size(); ++q) {
+        const double R = fx.model.particles.radius[q];
+        booked += fx.law.volume_factor * (4.0 / 3.0) * std::numbers::pi * R * R * R * fx.model.particles.plastic_work[q];
     }
     EXPECT_NEAR(booked, released, 1e-12 * released);
+    double trial[6];
+    trialOf(f, trial);
+    const CapTensorReturn r = fx.law.cap.returnMap(trial, CapState{}, kBulk, kShear);
+    // Hydrostatic ΔE^p = −Δe/3 I; pushed forward by F = 0.91 I: Δε = −Δe/(3 · 0.91²) I, which the bond takes
+    // in the unloaded configuration (P6): (l/l₀)² Δε = −Δe/3 I; a fibre's rest length scales by 1 − Δe/3, the
+    // exact √(1 − 2Δe/3) of C^p = I + 2E^p to first order (Δe ≈ 0.02 here: 2e-5 apart).
+    const double factor = 1.0 - r.invariants.d_compaction / 3.0;
+    EXPECT_NEAR(factor, std::sqrt(1.0 - 2.0 * r.invariants.d_compaction / 3.0), 0.5 * std::pow(r.invariants.d_compaction, 2));
+    const Bonds& b = fx.model.bonds;
+    long long checked = 0;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        if (!fx.hasF(b.i[k]) || !fx.hasF(b.j[k])) continue;
+        ++checked;
+        EXPECT_NEAR(b.rest_length[k] / before[k], factor, 1e-12) << "bond " << k;
+    }
+    EXPECT_GT(checked, 0);
+    EXPECT_LT(factor, 0.999);
 }
 
 TEST(PlasticFlow, TheReturnDoesNotDependOnTheThreadCount) {
