@@ -3,7 +3,7 @@
 // (the strain is judged on two rings of neighbours, about as wide as the print), so these runs weaken the law
 // (a custom cap with q_y = 3 GPa) and judge the strain on one ring: the point here is the machinery under
 // flow (the rest states moving every check), not silica's numbers, which examples/README.md reports.
-// Checked: the run flows and ends at rest, the energy the law dissipates is bounded by the tool's work, the
+// Checked: the run flows and ends at rest, the dissipation fits the energy balance of the tool's work, the
 // final state does not depend on the thread count, a restart in the middle of loading continues
 // bit-identically, and the same holds with fracture and contacts switched on.
 #include <filesystem>
@@ -38,18 +38,22 @@ nlohmann::json runReduced(const fs::path& dir, const std::string& args) {
     return readSummary(dir);
 }
 
-TEST(PlasticIndentation, TheReducedQuickstartFlowsDissipatesLessThanTheToolsWorkAndEndsAtRest) {
+TEST(PlasticIndentation, TheReducedQuickstartFlowsKeepsTheEnergyBalanceAndEndsAtRest) {
     const fs::path dir = freshTempDir("plastic-indent");
     const nlohmann::json s = runReduced(dir, kReduced);
     const nlohmann::json& m = s["measurements"];
     ASSERT_GT(m["plastic_particles"].get<long>(), 0) << "the weakened law must flow under the tip";
     EXPECT_TRUE(m["stages_complete"].get<bool>());
     EXPECT_TRUE(m["relax_converged"].get<bool>());
-    // Energy balance: what the return map dissipates is part of the work the tool did on the sample (the rest
-    // is stored elastically or taken by the damping), so it is positive and below the tool's work.
+    // Energy balance (a conservation law): the tool's work is what the sample stores (strain and kinetic
+    // energy at the end), what the rest-state moves released (the plastic dissipation, booked from the bonds'
+    // energy drop) and what the damping took (≥ 0, not booked). So the dissipation is positive and at most the
+    // work less the final energies, with no tolerance: the law's own σ:Δε^p broke this bound at 0.5 N (157 nJ
+    // against 127 nJ, CHANGELOG issue 26).
     const double dissipated = m["plastic_dissipation_nJ"].get<double>();
     EXPECT_GT(dissipated, 0.0);
-    EXPECT_LT(dissipated, m["tool_work_nJ"].get<double>());
+    EXPECT_LE(dissipated, m["tool_work_nJ"].get<double>() - m["final_strain_energy_nJ"].get<double>() -
+                              m["final_kinetic_energy_nJ"].get<double>());
     // A permanent print: the residual depth is positive and below the deepest the tip went.
     EXPECT_GT(m["depth_um"].get<double>(), 0.0);
     EXPECT_LE(m["depth_um"].get<double>(), m["max_depth_um"].get<double>());
