@@ -13,7 +13,7 @@
 #include "io/atomic_file.hpp"
 #include "io/scene_reader.hpp"
 #include "solver/errors.hpp"
-#include "solver/parallel/comm.hpp"
+#include "solver/halo/comm.hpp"
 
 namespace {
 

@@ -25,7 +25,7 @@
 #include "kernels/pages.hpp"
 #include "kernels/parallel.hpp"
 #include "solver/errors.hpp"
-#include "solver/parallel/comm.hpp"
+#include "solver/halo/comm.hpp"
 #include "solver/parallel/domain.hpp"
 #include "solver/step/probes.hpp"
 #include "solver/step/watchdog.hpp"
@@ -271,7 +271,7 @@ int runScene(const RunOptions& options) {
     KernelTimers::instance().reset();
     // Under an MPI launcher (even on one rank) the run is decomposed over the ranks (solver/parallel): each
     // steps its part; rank 0 alone logs and writes the files a run writes once. Every block that can fail on
-    // some ranks only is agreed (solver/parallel/comm.hpp), so a failure ends every rank with one message.
+    // some ranks only is agreed (solver/halo/comm.hpp), so a failure ends every rank with one message.
     Comm& comm = Comm::world();
     const bool ranked = comm.active();
     const bool root = comm.rank() == 0;

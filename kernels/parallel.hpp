@@ -68,7 +68,7 @@ int threadCount();
 void setThreadCount(int n);
 
 /// Reduction chunk: fixed, so that partial sums do not depend on the thread count; a rank's particle range
-/// starts at a multiple of it (solver/parallel/partition.hpp). 512 rather than a larger chunk: the cut points
+/// starts at a multiple of it (solver/halo/partition.hpp). 512 rather than a larger chunk: the cut points
 /// balance the ranks to within half a chunk (±256 particles: ±1.6 % of 15 600, 10⁶ particles on 64 ranks),
 /// and test scenes of a few thousand particles still spread over 4 ranks; 2000 partials per 10⁶ particles
 /// cost nothing beside the loop.

@@ -1,5 +1,5 @@
 // The surface penalty of vitrum's decomposition (issue 27), from the partitioner alone: the id ranges of the
-// Morton order cut at multiples of kReduceChunk with bond weights (solver/parallel/partition.hpp) over a real
+// Morton order cut at multiples of kReduceChunk with bond weights (solver/halo/partition.hpp) over a real
 // sample, for P = 2 … 64 ranks: particles per rank, bond ghosts, cut bonds (computed on both ranks), the
 // neighbour ranks and the bytes the forward halo carries per step; then the strong- and weak-scaling
 // efficiency they predict under a stated network model. No MPI: it runs on one process.
@@ -25,7 +25,7 @@
 
 #include "io/packing_io.hpp"
 #include "kernels/parallel.hpp"
-#include "solver/parallel/partition.hpp"
+#include "solver/halo/partition.hpp"
 
 namespace {
 

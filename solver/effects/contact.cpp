@@ -11,7 +11,7 @@
 #include "kernels/parallel.hpp"
 #include "solver/effects/coupling.hpp"
 #include "solver/model/model.hpp"
-#include "solver/parallel/domain.hpp"
+#include "solver/halo/halo.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"
 #include "solver/step/time_step.hpp"

@@ -77,6 +77,8 @@ struct ContactList {
 };
 
 class Step;
+struct Domain;
+struct Effects;
 struct Model;
 struct RunClock;
 struct Scene;
@@ -110,6 +112,13 @@ double contactOmegaSquared(const Scene& scene, const Model& model);
 
 /// Adds contacts.update and contacts.forces; call right after bonds.gather.
 void addContactPhases(Step& step);
+
+/// The rank's Verlet list (solver/effects/contact_ranks.cpp): rebuilt, with a fresh spatial halo of contact
+/// ghosts, when it is stale or some particle of any rank moved more than skin/2 since the last build
+/// (collective); returns whether it rebuilt. The list then holds the pairs with an owned end, in global pair
+/// order, end i the lower global id; its CSR rows are the owned particles.
+bool updateRankedContacts(Domain& domain, Model& model, Effects& effects);
+void buildRankedContacts(Domain& domain, Model& model, Effects& effects);
 
 // Hooks (solver/effects/effects.hpp): the run log's line and the summary's measurements contact_list_builds.
 void describe(const Contact& contact, const Model& model, const TimeStep& time_step, std::ostream& log);

@@ -9,7 +9,7 @@
 #include "solver/effects/indenter.hpp"
 #include "solver/model/model.hpp"
 #include "solver/model/sample.hpp"
-#include "solver/parallel/domain.hpp"
+#include "solver/halo/halo.hpp"
 #include "solver/step/time_step.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/step/step.hpp"

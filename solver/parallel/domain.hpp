@@ -1,5 +1,5 @@
 // A rank's share of a run over several MPI ranks (issue 27; reference note scale-out.md §2): ownership by
-// particle id (solver/parallel/partition.hpp), bond partners as ghosts, cross-rank bonds computed on both
+// particle id (solver/halo/partition.hpp), bond partners as ghosts, cross-rank bonds computed on both
 // ranks, forward exchange only.
 //
 //   local stores   owned particles (global order), bond ghosts (global order), contact ghosts (global order);
@@ -23,52 +23,15 @@
 #include <vector>
 
 #include "solver/effects/contact.hpp"
-#include "solver/parallel/comm.hpp"
-#include "solver/parallel/partition.hpp"
+#include "solver/halo/halo.hpp"
 
 namespace vitrum {
 
-class Step;
 struct Effects;
 struct Model;
 struct Scene;
 
-/// Who sends which particles to whom: per neighbour rank (ascending), the owned particles sent (local
-/// indices, ascending = global order) and the range of ghosts received (contiguous, global order).
-struct Halo {
-    std::vector<int> peers;
-    std::vector<std::vector<std::int32_t>> send;
-    std::vector<std::pair<std::size_t, std::size_t>> receive; ///< [first, first + count) per peer
 
-    std::size_t sent() const;
-    std::size_t received() const;
-};
-
-/// A field of the particles as it travels: `bytes` per particle at `data` (a store's array).
-struct HaloField {
-    void* data = nullptr;
-    std::size_t bytes = 0;
-};
-
-/// The contact pairs of a rank's Verlet list by global ids (parallel to ContactList::i, j), and the tangential
-/// springs a restart restored, by global ids (carried into the first list built).
-struct GlobalPairs {
-    std::vector<std::int64_t> i, j;
-    std::vector<double> tangential; ///< restored history only (3 per pair)
-};
-
-struct Domain {
-    Comm* comm = nullptr;
-    Partition partition;
-    Halo bond_halo;               ///< fixed: the partners of the owned particles' bonds
-    Halo contact_halo;            ///< rebuilt with the Verlet list: particles near the owned ones
-    std::size_t bond_ghost_end = 0; ///< local particles [owned, bond_ghost_end) are bond ghosts, then contact ones
-    bool velocities = false;      ///< halo.forward also carries velocities and spins (contacts, viscous damping)
-    GlobalPairs pairs;            ///< the Verlet list by global ids
-    GlobalPairs restored;         ///< a restart's contact history until the first list is built
-    double max_radius = 0.0;      ///< the whole sample's largest radius (found at the first contact build)
-    long long spatial_halos = 0;  ///< statistics: spatial halos built
-};
 
 /// The rank's part of `full` (the whole sample and effects, built identically on every rank from the scene
 /// and, on a restart, the checkpoint): `local` gets the owned particles and their ghosts, the bonds with an
@@ -80,22 +43,6 @@ Domain localize(const Scene& scene, const Model& full, Effects& effects, Comm& c
 
 /// Throws InputError when the scene asks for something that cannot run on several ranks (see localize).
 void refuseUnsupported(const Scene& scene, int ranks);
-
-/// Sends the owned particles' `fields` to the ranks that hold them as ghosts, into the ghosts' entries
-/// (collective among the neighbours): first the bond ghosts, then the contact ghosts.
-void forwardToGhosts(Domain& domain, const std::vector<HaloField>& fields);
-/// The step's exchange: positions and orientations, with domain.velocities also velocities and spins.
-void forwardState(Domain& domain, Model& model);
-
-/// The rank's Verlet list (effect contact; solver/parallel/contact_halo.cpp): rebuilt, with a fresh spatial
-/// halo of contact ghosts, when it is stale or some particle of any rank moved more than skin/2 since the
-/// last build (collective); returns whether it rebuilt. The list then holds the pairs with an owned end, in
-/// global pair order, end i the lower global id; its CSR rows are the owned particles.
-bool updateRankedContacts(Domain& domain, Model& model, Effects& effects);
-void buildRankedContacts(Domain& domain, Model& model, Effects& effects);
-
-/// Adds halo.forward (after the drift and every phase that moves particles, before the bond pass).
-void addHaloPhase(Step& step, const Effects& effects);
 
 /// The whole state on rank 0 from the ranks' owned rows (collective): every field of the particle and bond
 /// stores in global order, the bond ends as global ids; on other ranks `out` is left empty. The result is the

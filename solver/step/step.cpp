@@ -1,13 +1,14 @@
 #include "solver/step/step.hpp"
 
 #include <chrono>
+#include <stdexcept>
 
 #include "kernels/bond_kernels.hpp"
 #include "kernels/boundary.hpp"
 #include "solver/effects/coupling.hpp"
 #include "solver/effects/effects.hpp"
+#include "solver/halo/halo.hpp"
 #include "solver/model/model.hpp"
-#include "solver/parallel/domain.hpp"
 
 namespace vitrum {
 
@@ -141,7 +142,14 @@ Step composeStep(const Model& model, const Effects& fx) {
     if (hasDisplacementBoundary(model)) addPrescribedDisplacementPhase(step);
     if (fx.indenter) addIndenterMovePhase(step);
     if (fx.plasticity) addPlasticityPhase(step);
-    if (model.part) addHaloPhase(step, fx); // every ghost current before the bond pass reads it
+    if (model.part) { // every ghost current before the bond pass reads it (solver/halo)
+        step.add("halo.forward", true, [](StepContext& c) {
+            if (c.domain == nullptr) {
+                throw std::logic_error("halo.forward: a rank's step runs without its domain");
+            }
+            forwardState(*c.domain, c.model);
+        });
+    }
     addBondPhase(step, fx);
     addGatherPhase(step);
     if (fx.contact) addContactPhases(step);

@@ -47,7 +47,7 @@ struct StepContext {
     /// Set by the final kick (halfKickAndMeasure): kinetic energy, largest speed and spin and the first
     /// non-finite particle of the state at the end of the step; the driver's watchdog reads it every step.
     KineticEnergy kinetic{};
-    /// On a rank of a run over several MPI ranks (solver/parallel/domain.hpp): its ghosts, their exchange and
+    /// On a rank of a run over several MPI ranks (solver/halo/halo.hpp): its ghosts, their exchange and
     /// the spatial halo of the contacts; null on one process.
     Domain* domain = nullptr;
 };

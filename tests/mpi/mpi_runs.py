@@ -5,7 +5,7 @@ with the one-process run, bit for bit.
     mpi_runs.py CASE --mpiexec /usr/bin/mpiexec --vitrum build/vitrum --source . [--work DIR]
 
 CASE is one of the functions named case_* below. Each run is small (seconds). A run without a launcher takes
-the one-process path, which is exactly what a build without MPI runs (solver/parallel/comm.cpp calls no MPI
+the one-process path, which is exactly what a build without MPI runs (solver/halo/comm.cpp calls no MPI
 then), so "1 rank under mpiexec == the plain run" is the test of "1-rank MPI equals the non-MPI build".
 
 What "the same" means: state_sha256 and every number and string of summary.json, except the keys that
@@ -201,7 +201,7 @@ def case_variants(r):
 
 
 def partition_cuts(weights, ranks, align=512):
-    """solver/parallel/partition.cpp partitionByWeight, in Python."""
+    """solver/halo/partition.cpp partitionByWeight, in Python."""
     prefix = [0.0]
     for w in weights:
         prefix.append(prefix[-1] + w)

@@ -1,4 +1,4 @@
-// The partitioner of the MPI decomposition (solver/parallel/partition.hpp): cut points at chunk multiples,
+// The partitioner of the MPI decomposition (solver/halo/partition.hpp): cut points at chunk multiples,
 // balanced by weight, monotone with empty ranks when the ranks outnumber the chunks; and the ghost, cut-bond
 // and neighbour counts of a chain whose answer is known by hand.
 #include <numeric>
@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "kernels/parallel.hpp"
-#include "solver/parallel/partition.hpp"
+#include "solver/halo/partition.hpp"
 
 namespace vitrum {
 namespace {

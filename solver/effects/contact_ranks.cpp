@@ -1,4 +1,4 @@
-// The Verlet list of effect contact on a rank (solver/parallel/domain.hpp updateRankedContacts): the spatial
+// The Verlet list of effect contact on a rank (contact.hpp updateRankedContacts): the spatial
 // halo and the pairs with an owned end, in global pair order.
 //
 // No particle migrates: ownership stays with the id range even for a released fragment that flies off. The
@@ -14,6 +14,8 @@
 // restricted to pairs with an owned end, with the lower global id as end i, sorted by global ids, and the
 // tangential springs carried over by global pair. So every owned particle sums the same pairs in the same
 // order as on one process, and a cut pair is computed alike on both ranks.
+#include "solver/effects/contact.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -25,8 +27,8 @@
 #include "solver/effects/effects.hpp"
 #include "solver/model/cell_grid.hpp"
 #include "solver/model/model.hpp"
-#include "solver/parallel/domain.hpp"
-#include "solver/parallel/rows.hpp"
+#include "solver/halo/halo.hpp"
+#include "solver/halo/rows.hpp"
 
 namespace vitrum {
 

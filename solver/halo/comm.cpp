@@ -1,4 +1,4 @@
-#include "solver/parallel/comm.hpp"
+#include "solver/halo/comm.hpp"
 
 #include <cstdlib>
 #include <cstring>

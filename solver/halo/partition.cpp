@@ -1,4 +1,4 @@
-#include "solver/parallel/partition.hpp"
+#include "solver/halo/partition.hpp"
 
 #include <algorithm>
 #include <cmath>
