@@ -307,6 +307,9 @@ int runScene(const RunOptions& options) {
     agreed(comm, [&] {
         if (!root) source = loadOrBuildSample(scene);
         model = buildModel(scene, lengthFactor(scene.units.length), source.sample);
+        // The packing's centres, radii and bond pairs (57 B per particle at 3.1 bonds each) are the model's
+        // now: released before the time step's estimate, the set-up's peak (origin and report stay).
+        source.sample = BondedSample{};
         effects = buildEffects(scene, model);
         // 3. The time step: Δt ≤ safety_ratio · 2/ω_max (solver/step/time_step.hpp), on the whole sample.
         ts = planTimeStep(scene, model, effects);
