@@ -187,6 +187,7 @@ std::string reportRankedInstability(Domain& domain, const fs::path& out, const C
     good.time = last_good.time;
     if (last_good.step >= 0) {
         Model then;
+        last_good.complete(local);
         then.particles = last_good.particles;
         then.bonds = last_good.bonds;
         then.part = local.part;

@@ -22,6 +22,7 @@ std::string reportInstability(const fs::path& out, CheckpointMeta run, double dt
         try {
             run.step = last_good.step;
             run.time = last_good.time;
+            last_good.complete(model);
             writeCheckpoint(path.string(), run, last_good.state());
             s << "\n  wrote the last good state (step " << last_good.step << ", t = " << last_good.time << " ns) to "
               << path.string() << " (a checkpoint: --restart continues from it)";

@@ -437,6 +437,7 @@ struct OutputParams {
     std::vector<OutputField> fields = {OutputField::Displacement, OutputField::Velocity, OutputField::Force,
                                        OutputField::Coordination};
     std::vector<std::string> reactions; ///< sets whose total bond force is recorded
+    bool last_good_state = true;        ///< the watchdog's copy of the state (StateSnapshot) is kept
 
     bool operator==(const OutputParams&) const = default;
 };

@@ -332,6 +332,11 @@ const std::vector<Key<OutputParams>>& outputKeys() {
         custom<S>("reactions", "list of sets of [sets]", "sets whose total bond force series.csv records",
                   readReactions,
                   [](const Key<S>&, const S& o, const Units&) { return tomlStrings(o.reactions); }),
+        flag<S>("last_good_state", &S::last_good_state,
+                "keep a copy of the state at a recorded step at most every 100 steps, which a failed run writes as "
+                "last_good_state.h5 to restart from; it costs memory: about 380 B per particle for an elastic run, "
+                "780 B with densification's property evolution, the whole stores on MPI ranks (CHANGELOG.md, "
+                "issue 29); false: no copy, a failed run writes its diagnosis and neighbourhood maps only"),
     };
     return keys;
 }

@@ -1,6 +1,9 @@
 #include "solver/model/bonds.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <string_view>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -11,6 +14,23 @@
 #include "solver/scene.hpp"
 
 namespace vitrum {
+
+namespace {
+
+// The beam constants a bond is built with; every use goes through these, so a value restored from them has
+// the bits Bonds::add gave it.
+double builtShear(const MaterialParams& m) { return m.beam_young / (2.0 * (1.0 + m.beam_poisson)); }
+double builtSectionRadius(const MaterialParams& m, double r_a, double r_b) { return m.radius_ratio * 0.5 * (r_a + r_b); }
+
+} // namespace
+
+void Bonds::reserve(std::size_t n) {
+    forEachField(*this, [&](const Field& f, auto& member) {
+        if (f.name != std::string_view("slip") && f.name != std::string_view("reference_strain")) {
+            member.reserve(n * static_cast<std::size_t>(f.components));
+        }
+    });
+}
 
 void Bonds::add(const Particles& p, std::int32_t a, std::int32_t b, const MaterialParams& material) {
     if (a > b) {
@@ -38,9 +58,9 @@ void Bonds::add(const Particles& p, std::int32_t a, std::int32_t b, const Materi
     i.push_back(a);
     j.push_back(b);
     rest_length.push_back(l0);
-    section_radius.push_back(material.radius_ratio * 0.5 * (p.radius[ia] + p.radius[ib]));
+    section_radius.push_back(builtSectionRadius(material, p.radius[ia], p.radius[ib]));
     young.push_back(material.beam_young);
-    shear.push_back(material.beam_young / (2.0 * (1.0 + material.beam_poisson)));
+    shear.push_back(builtShear(material));
     for (int c = 0; c < 3; ++c) {
         axis_i.push_back(axis_a[c]);
         axis_j.push_back(axis_b[c]);
@@ -123,6 +143,29 @@ Incidence Incidence::build(std::size_t n_particles, const Bonds& bonds) {
 
 IncidenceView Incidence::view() const {
     return IncidenceView{offset.size() - 1, offset.data(), entry.data(), ready.data()};
+}
+
+bool hasBuiltProperties(const Bonds& b, const Particles& p, const MaterialParams& material) {
+    const auto same = [](double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); };
+    const double shear = builtShear(material);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        const auto i = static_cast<std::size_t>(b.i[k]), j = static_cast<std::size_t>(b.j[k]);
+        if (!same(b.young[k], material.beam_young) || !same(b.shear[k], shear) ||
+            !same(b.section_radius[k], builtSectionRadius(material, p.radius[i], p.radius[j]))) {
+            return false;
+        }
+    }
+    return true;
+}
+
+void setBuiltProperties(Bonds& b, const Particles& p, const MaterialParams& material) {
+    const double shear = builtShear(material);
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        const auto i = static_cast<std::size_t>(b.i[k]), j = static_cast<std::size_t>(b.j[k]);
+        b.young[k] = material.beam_young;
+        b.shear[k] = shear;
+        b.section_radius[k] = builtSectionRadius(material, p.radius[i], p.radius[j]);
+    }
 }
 
 double meanAxialStiffness(const Bonds& b) {

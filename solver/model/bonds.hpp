@@ -35,6 +35,10 @@ struct Bonds {
 
     std::size_t size() const { return i.size(); }
 
+    /// Reserves room for n bonds in every field but the effects' (buildModel knows the count: the arrays are
+    /// not grown by doubling and copying).
+    void reserve(std::size_t n);
+
     /// Appends a beam between particles a and b of `p` in its current configuration: rest length = current
     /// centre distance (stress-free start), section radius r̃ (R_a + R_b)/2, references from the current
     /// orientations (reference note dem-beam-model.md §2.3).
@@ -65,6 +69,12 @@ struct Incidence {
 
     IncidenceView view() const;
 };
+
+/// True when every bond's E_μ, G_μ and section radius are bit for bit those Bonds::add gives it from
+/// `material` and the radii of `p` (the bonds as built, before densification changed any).
+bool hasBuiltProperties(const Bonds& bonds, const Particles& p, const MaterialParams& material);
+/// Gives every bond the E_μ, G_μ and section radius Bonds::add gives it (the same expressions, the same bits).
+void setBuiltProperties(Bonds& bonds, const Particles& p, const MaterialParams& material);
 
 /// Mean axial stiffness of the beams ⟨E_μ π r_μ² / l₀⟩, mN/µm: the sum over every bond (broken ones
 /// included) in bond order, over the bond count; 0 without bonds.

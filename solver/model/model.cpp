@@ -185,6 +185,7 @@ Model buildModel(const Scene& scene, double length_factor, const BondedSample& b
             model.particles.flags[i] |= kSurface;
         }
     }
+    model.bonds.reserve(bonded.pairs.size());
     for (const auto& [a, b] : bonded.pairs) {
         const auto n = static_cast<std::int32_t>(model.particles.size());
         if (a < 0 || b < 0 || a >= n || b >= n || a == b) {

@@ -31,8 +31,10 @@ FrequencyEstimate highestFrequency(Model& model, int max_iterations = 100, doubl
 /// estimate above with every unbroken bond temporarily given the envelope of its densified properties
 /// (kernels/densification.hpp stiffnessEnvelope: E S up to ×1.9, E I at most ×1 with the silica calibration),
 /// then restored. Computed once from the model's bonds as built, so it does not depend on the densification
-/// state: the same Δt before and after a restart, and never optimistic as bonds stiffen.
-FrequencyEstimate highestFrequencyDensified(Model& model, const PropertyEvolution& evolution);
+/// state: the same Δt before and after a restart, and never optimistic as bonds stiffen. `material` gives the
+/// properties of bonds as built (restored from it when every bond still has them, copied otherwise).
+FrequencyEstimate highestFrequencyDensified(Model& model, const PropertyEvolution& evolution,
+                                            const MaterialParams& material);
 
 /// The estimate the `run` driver uses for `scene`: highestFrequencyDensified when the scene lists the effect
 /// densification with property evolution, highestFrequency otherwise (contacts and the tool come on top).

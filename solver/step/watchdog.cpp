@@ -1,6 +1,10 @@
 #include "solver/step/watchdog.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <initializer_list>
+#include <string_view>
+#include <type_traits>
 #include <limits>
 #include <sstream>
 
@@ -249,11 +253,50 @@ Neighbourhood gatherNeighbourhood(const Model& model, long particle, double radi
     return n;
 }
 
+namespace {
+
+/// Calls f(field, to_member, from_member) for every field of two stores of one type, in their table's order.
+template <class Store, class F> void forEachFieldPair(Store& to, const Store& from, F&& f) {
+    std::vector<const void*> members;
+    forEachField(from, [&](const Field&, const auto& member) { members.push_back(&member); });
+    std::size_t k = 0;
+    forEachField(to, [&](const Field& field, auto& member) {
+        using Member = std::remove_reference_t<decltype(member)>;
+        f(field, member, *static_cast<const Member*>(members[k++]));
+    });
+}
+
+bool named(const Field& field, std::initializer_list<std::string_view> names) {
+    return std::find(names.begin(), names.end(), std::string_view(field.name)) != names.end();
+}
+
+} // namespace
+
 void StateSnapshot::take(const Model& model, const Effects& effects, long step_, double time_) {
     step = step_;
     time = time_;
-    particles = model.particles; // copy-assignment reuses the capacity: no allocation after the first
-    bonds = model.bonds;
+    // What no phase writes (see the struct's comment). The writers of the bonds' rest state and properties:
+    // kernels/beam_lanes.hpp densify<true> and kernels/plastic_flow.cpp moveRestStates.
+    const bool compact = !model.part;
+    const bool rest_state_changes = (effects.densification && effects.densification->law.evolve) ||
+                                    effects.plasticity.has_value();
+    // Copy-assignment reuses the capacity: no allocation after the first.
+    forEachFieldPair(particles, model.particles, [&](const Field& field, auto& to, const auto& from) {
+        if (compact && named(field, {"initial_position", "radius", "mass", "inertia"})) {
+            to.clear();
+        } else {
+            to = from;
+        }
+    });
+    forEachFieldPair(bonds, model.bonds, [&](const Field& field, auto& to, const auto& from) {
+        if (compact && (named(field, {"i", "j"}) ||
+                        (!rest_state_changes && named(field, {"rest_length", "section_radius", "young", "shear",
+                                                              "axis_i", "axis_j", "twist_ref"})))) {
+            to.clear();
+        } else {
+            to = from;
+        }
+    });
     if (effects.contact) {
         contacts = effects.contact->list;
     }
@@ -267,6 +310,14 @@ void StateSnapshot::take(const Model& model, const Effects& effects, long step_,
         cnem_velocity = m.velocity;
         cnem_force = m.force;
     }
+}
+
+void StateSnapshot::complete(const Model& model) {
+    const auto fill = [](const Field&, auto& to, const auto& from) {
+        if (to.empty() && !from.empty()) to = from;
+    };
+    forEachFieldPair(particles, model.particles, fill);
+    forEachFieldPair(bonds, model.bonds, fill);
 }
 
 RunState StateSnapshot::state() {

@@ -58,7 +58,14 @@ struct Neighbourhood {
 Neighbourhood gatherNeighbourhood(const Model& model, long particle, double radius);
 
 /// A copy of the run's state (solver/step/run_state.hpp), taken at a step that passed the watchdog: what the
-/// driver writes as last_good_state.h5, a checkpoint a restart continues from.
+/// driver writes as last_good_state.h5, a checkpoint a restart continues from ([output] last_good_state).
+///
+/// Compact on one process: the fields no phase of the run writes are not copied, since the model still holds
+/// them, unchanged, when the snapshot is written: the particles' initial positions, radii, masses and
+/// inertias, the bonds' ends, and the bonds' rest state and properties (rest length, section radius, E_μ, G_μ,
+/// axes, twist reference) unless an effect rewrites them (densification with property evolution,
+/// plasticity). At 3.1 bonds per particle an elastic run's copy is about 380 B per particle instead of 800 B.
+/// On several ranks the copy is whole (a rank's contact ghosts change between the copy and a failure).
 struct StateSnapshot {
     long step = -1; ///< −1: none taken yet
     double time = 0.0;
@@ -70,7 +77,9 @@ struct StateSnapshot {
     std::vector<double> cnem_displacement, cnem_velocity, cnem_force;
 
     void take(const Model& model, const Effects& effects, long step_, double time_);
-    /// The copy as a run state (for the checkpoint writer).
+    /// Fills the fields take() left out from `model` (the model it was taken of, later in the same run).
+    void complete(const Model& model);
+    /// The copy as a run state (for the checkpoint writer); complete() it first.
     RunState state();
 };
 

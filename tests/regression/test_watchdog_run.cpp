@@ -54,5 +54,23 @@ TEST(WatchdogRun, ABlowUpStopsWithExit1NamingTheParticleBondAndCauseAndWritesThe
         << "first run failed at step " << step << "\n" << testing::readText(again / "log.txt");
 }
 
+TEST(WatchdogRun, WithoutTheLastGoodStateABlowUpStillStopsWithItsDiagnosisAndWritesNoSnapshot) {
+    // [output] last_good_state = false: no copy is kept (issue 29, its memory), the diagnosis and maps stay.
+    const fs::path dir = testing::freshTempDir("watchdog-run-no-snapshot");
+    ASSERT_EQ(testing::runVitrum("run " + kScene + " --out " + dir.string() + kBlowUp +
+                                     " --set output.last_good_state=false",
+                                 dir / "log.txt"),
+              1)
+        << testing::readText(dir / "log.txt");
+    const std::string log = testing::readText(dir / "log.txt");
+    for (const char* needle : {"numerical instability detected at step", "likely cause: ",
+                               "no last good state was kept ([output] last_good_state = false)",
+                               "watchdog_particles.vtu"}) {
+        EXPECT_NE(log.find(needle), std::string::npos) << needle << "\n" << log;
+    }
+    EXPECT_FALSE(fs::exists(dir / "last_good_state.h5"));
+    EXPECT_TRUE(fs::exists(dir / "watchdog_particles.vtu"));
+}
+
 } // namespace
 } // namespace vitrum

@@ -270,7 +270,7 @@ const std::map<std::string, std::string> kEverySection = {
     {"measure", "[measure]\nkind = \"uniaxial\"\nloaded_set = \"top\"\naxis = \"y\"\n"},
     {"output",
      "[output]\nevery = 50\nmaps = 0\ncheckpoints = 3\nfields = [\"displacement\", \"radius\", \"damage\"]\n"
-     "reactions = [\"top\", \"dome\"]\n"},
+     "reactions = [\"top\", \"dome\"]\nlast_good_state = false\n"},
 };
 
 std::string sceneOf(std::map<std::string, std::string> sections,
