@@ -14,6 +14,7 @@ Needs numpy and h5py (if the default python3 lacks them, the script restarts its
 """
 
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -213,9 +214,12 @@ def export_lammps(args, packing, st, k, vel, dt_s):
             f.write("bond_coeff %d %.9g %.9g %.9g %.9g 1e30 1e30 1e30 1e30 0 0 0 0\n"
                     % (t, k["k_axial"][sel].mean(), k["k_shear"][sel].mean(), k["k_twist"][sel].mean(),
                        k["k_bend"][sel].mean()))
-        f.write("pair_style zero %.9g nocoeff\npair_coeff * *\n" % (0.1 * float(r.min())))
+        # no contacts: a zero pair style over the contact range with every pair excluded from the neighbour
+        # list (a tiny cutoff would make LAMMPS's bins tiny); the ghosts reach past the longest bond
+        f.write("pair_style zero %.9g nocoeff\npair_coeff * *\n" % (2 * float(r.max())))
         f.write("comm_modify vel yes cutoff %.9g\n" % (1.5 * lmax))
-        f.write("neighbor %.9g bin\nneigh_modify every 10 delay 0 check yes\n" % (0.1 * float(r.min())))
+        f.write("neighbor %.9g bin\nneigh_modify every 10 delay 0 check yes exclude type 1 1\n"
+                % (0.2 * float(r.min())))
         f.write("fix 1 all nve/bpm/sphere\ntimestep %.17g\n" % dt_s)
         f.write("write_dump all custom lammps_initial.txt id x y z modify sort id format float %.17g\n")
         f.write("thermo 1000000\nvariable nb equal bonds\n")
@@ -386,6 +390,9 @@ def main():
     dt_ns = summary["safety_ratio"] * summary["dt_critical_ns"]
     print("peers: %s: %d particles, %d bonds (vitrum's model: the same particles, positions and bonds); "
           "dt = %.6g ns (vitrum's, used by all three)" % (pack, n, nbonds, dt_ns), flush=True)
+    with open(args.vitrum, "rb") as f:
+        print("peers: vitrum %s: %s (sha256 %s)" % (summary["vitrum_version"], args.vitrum,
+                                                    hashlib.sha256(f.read()).hexdigest()[:16]), flush=True)
     k = beam_constants(st)
     vel = initial_velocities(n, 1, args.velocity)
 
