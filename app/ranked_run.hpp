@@ -13,7 +13,7 @@
 #include "solver/effects/effects.hpp"
 #include "solver/model/model.hpp"
 #include "solver/parallel/domain.hpp"
-#include "solver/step/watchdog.hpp"
+#include "solver/run/watchdog.hpp"
 
 namespace vitrum {
 

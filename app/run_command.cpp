@@ -28,7 +28,9 @@
 #include "solver/halo/comm.hpp"
 #include "solver/parallel/domain.hpp"
 #include "solver/step/probes.hpp"
-#include "solver/step/watchdog.hpp"
+#include "solver/run/compose.hpp"
+#include "solver/run/plan_time_step.hpp"
+#include "solver/run/watchdog.hpp"
 
 namespace vitrum {
 

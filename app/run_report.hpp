@@ -10,10 +10,11 @@
 #include <nlohmann/json.hpp>
 
 #include "io/sample_cache.hpp"
+#include "solver/effects/coupling.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/model/model.hpp"
 #include "solver/scene.hpp"
-#include "solver/step/recorder.hpp"
+#include "solver/run/recorder.hpp"
 #include "solver/step/step.hpp"
 #include "solver/step/time_step.hpp"
 

@@ -41,10 +41,10 @@
 #include "kernels/views.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/model/model.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 #include "solver/scene.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace {
 

@@ -21,7 +21,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "solver/step/run_state.hpp"
+#include "solver/run/run_state.hpp"
 
 namespace vitrum {
 

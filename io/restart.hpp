@@ -13,7 +13,7 @@ struct Effects;
 struct Model;
 
 /// Reads the checkpoint at `path` into `model` with `effects` (built from the scene whose resolved text hashes
-/// to `scene_sha256`; solver/step/run_state.hpp says what is restored) and rebuilds the incidence. Refused with
+/// to `scene_sha256`; solver/run/run_state.hpp says what is restored) and rebuilds the incidence. Refused with
 /// an InputError naming the file: another scene's checkpoint; particles or bonds other than the scene's
 /// (counts, radii, masses, inertias, reference positions, flags, bond ends); an effect's per-particle or per-bond
 /// state missing where the scene has the effect, or present where it has not (every field's length must be the

@@ -1,4 +1,4 @@
-// The report of a watchdog failure (solver/step/probes.hpp checkStability, solver/step/watchdog.hpp diagnosis): the text
+// The report of a watchdog failure (solver/step/probes.hpp checkStability, solver/run/watchdog.hpp diagnosis): the text
 // the driver appends to the instability message, and the files it writes beside the run's outputs.
 #pragma once
 
@@ -6,7 +6,7 @@
 #include <string>
 
 #include "io/checkpoint.hpp"
-#include "solver/step/watchdog.hpp"
+#include "solver/run/watchdog.hpp"
 
 namespace vitrum {
 

@@ -130,7 +130,7 @@ void projectCoupledVelocities(Particles& particles, CnemModel& cnem, Bridge& bri
 /// The net forces of the constrained motion: the DEM force plus its share of the constraint force, F + G_dᵀλ
 /// with A λ = −(G_d M̃_d⁻¹ F + G_c M̃_c⁻¹ F_c), and likewise F_c + G_cᵀλ for the CNEM (mN; into `dem`, 3n,
 /// and `cnem`, 3N). At rest these vanish, while a bridging particle's or zone node's own force does not:
-/// the constraint holds it. Cundall damping takes its magnitude from them (solver/step/step.cpp
+/// the constraint holds it. Cundall damping takes its magnitude from them (solver/run/compose.cpp
 /// damping.cundall): from the models' own forces it acted at rest in the zone as a Coulomb friction of
 /// α |F| that froze a lateral drift of the coupled box at rest (CHANGELOG.md, the domain study).
 /// Particles outside the bridge get F exactly; kinematic bridging particles and Dirichlet DOFs 0 (neither

@@ -34,19 +34,11 @@
 
 #include "solver/cnem/bridge.hpp"
 #include "solver/model/model.hpp"
+#include "solver/step/frequency.hpp"
 #include "solver/step/step.hpp"
 
 namespace vitrum {
 
-/// Highest frequencies of the two partition-weighted models (rad/ns): the DEM with weighted masses and
-/// bonds (power iteration of solver/step/frequency.hpp on them) and the CNEM with its weighted tables and lumped
-/// masses. The velocity constraint only removes motions (an M̃-orthogonal projection), so the coupled
-/// system's top frequency is at most the larger of the two.
-struct CoupledFrequency {
-    double dem = 0.0;
-    double cnem = 0.0;
-    int cnem_iterations = 0;
-};
 struct CoupledContinuum {
     CouplingParams params;         ///< the scene's [coupling]
     CnemModel cnem;

@@ -1,6 +1,6 @@
 // Effect `densification` (paper §2.2): the spring-slider in series with every beam and the evolution of the
 // beam's properties with densification, kernels/densification.hpp. It runs inside the beam-load pass (one
-// kinematics per bond, solver/step/step.cpp); its per-bond state (slip, reference strain) lives in the bond
+// kinematics per bond, solver/run/compose.cpp); its per-bond state (slip, reference strain) lives in the bond
 // store, sized by buildDensification.
 #pragma once
 

@@ -40,7 +40,7 @@ Effects buildEffects(const Scene& scene, Model& model);
 /// Calls `visit(effect)` for every effect that is present, in the fixed order of the struct above (the order
 /// of the log lines, series columns and summary keys). An effect takes part in what it has a hook for: the
 /// free functions describe, seriesColumns / seriesValues, progressText and summarize overloaded on its type
-/// (solver/step/recorder.hpp calls them where they exist).
+/// (solver/run/recorder.hpp calls them where they exist).
 template <class E, class F>
 void forEachEffect(E& effects, F&& visit) {
     if (effects.densification) visit(*effects.densification);

@@ -9,7 +9,6 @@
 #include "kernels/bond_kernels.hpp"
 #include "kernels/parallel.hpp"
 #include "kernels/timestep.hpp"
-#include "solver/effects/densification.hpp"
 
 namespace vitrum {
 
@@ -221,13 +220,6 @@ FrequencyEstimate highestFrequencyDensified(Model& m, const PropertyEvolution& e
         b.section_radius = radius;
     }
     return est;
-}
-
-FrequencyEstimate highestFrequencyFor(const Scene& scene, Model& m) {
-    if (scene.hasEffect(Effect::Densification) && scene.densification.property_evolution) {
-        return highestFrequencyDensified(m, densificationLaw(scene).evolution, scene.material);
-    }
-    return highestFrequency(m);
 }
 
 } // namespace vitrum

@@ -10,7 +10,6 @@
 #pragma once
 
 #include "solver/model/model.hpp"
-#include "solver/scene.hpp"
 
 namespace vitrum {
 
@@ -20,6 +19,16 @@ struct FrequencyEstimate {
     double omega_gershgorin = 0.0;
     int iterations = 0;
     double relative_residual = 0.0; ///< ‖r‖/λ_R at the end
+};
+
+/// Highest frequencies of the two partition-weighted models of a coupled run (rad/ns): the DEM with weighted
+/// masses and bonds (highestFrequency on them) and the CNEM with its weighted tables and lumped masses
+/// (solver/effects/coupling.hpp). The velocity constraint only removes motions (an M̃-orthogonal projection),
+/// so the coupled system's top frequency is at most the larger of the two.
+struct CoupledFrequency {
+    double dem = 0.0;
+    double cnem = 0.0;
+    int cnem_iterations = 0;
 };
 
 /// Power iteration (at most `max_iterations`, stopping when ‖r‖/λ_R < tolerance) about the model's current
@@ -35,9 +44,5 @@ FrequencyEstimate highestFrequency(Model& model, int max_iterations = 100, doubl
 /// properties of bonds as built (restored from it when every bond still has them, copied otherwise).
 FrequencyEstimate highestFrequencyDensified(Model& model, const PropertyEvolution& evolution,
                                             const MaterialParams& material);
-
-/// The estimate the `run` driver uses for `scene`: highestFrequencyDensified when the scene lists the effect
-/// densification with property evolution, highestFrequency otherwise (contacts and the tool come on top).
-FrequencyEstimate highestFrequencyFor(const Scene& scene, Model& model);
 
 } // namespace vitrum

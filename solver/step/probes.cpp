@@ -51,7 +51,7 @@ void checkStability(const KineticEnergy& kinetic, double dt, double dt_critical,
         msg << "particle " << kinetic.fastest_spin << " turns " << kinetic.max_spin * dt << " rad in one step, "
             << "more than 0.1 rad (a run-away rotation)";
     }
-    // The advice depends on the cause (solver/step/watchdog.hpp: time step, contact stiffness or input), which the
+    // The advice depends on the cause (solver/run/watchdog.hpp: time step, contact stiffness or input), which the
     // driver diagnoses from the model and appends.
     msg << ". The time step is " << dt << " ns = " << dt / dt_critical << " x the critical estimate.";
     throw NumericalInstability(msg.str(), culprit, step);

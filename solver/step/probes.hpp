@@ -31,7 +31,7 @@ struct NumericalInstability : RuntimeFailure {
 /// Stability watchdog: a NaN/Inf anywhere, or a particle moving more than a tenth of the smallest radius in
 /// one step (|v|max Δt > 0.1 R_min, far beyond any physical rate in quasi-static indentation, and reached
 /// within a few steps once the explicit scheme diverges), or turning by more than 0.1 rad, throws
-/// NumericalInstability with the step, time, the particle and the time step; solver/step/watchdog.hpp diagnoses
+/// NumericalInstability with the step, time, the particle and the time step; solver/run/watchdog.hpp diagnoses
 /// the cause and the driver adds it, the advice and the files it wrote.
 void checkStability(const KineticEnergy& kinetic, double dt, double dt_critical, double min_radius, long step,
                     double time);

@@ -11,14 +11,9 @@
 
 #include <optional>
 
-#include "solver/effects/coupling.hpp"
 #include "solver/step/frequency.hpp"
 
 namespace vitrum {
-
-struct Effects;
-struct Model;
-struct Scene;
 
 struct TimeStep {
     FrequencyEstimate beams;                  ///< power iteration on the beams (rad/ns)
@@ -31,14 +26,5 @@ struct TimeStep {
     long steps = 0;                           ///< steps over time.duration
     double dt = 0.0;                          ///< Δt, ns (≤ safety_ratio · Δt_crit)
 };
-
-/// Runs above this many steps are refused: at 10⁸ bond-updates per second a 10⁵-bond sample would need ten
-/// years. (The largest scenes of the project take 10⁶–10⁷ steps.)
-inline constexpr double kMaxSteps = 1e12;
-
-/// The time step of `scene` on `model` with `effects` (estimated about the model's current state). Throws
-/// InputError naming the keys when no finite positive step exists (no bonds, or a stiffness or mass that is
-/// zero, infinite or not a number) or when the step count exceeds kMaxSteps.
-TimeStep planTimeStep(const Scene& scene, Model& model, Effects& effects);
 
 } // namespace vitrum

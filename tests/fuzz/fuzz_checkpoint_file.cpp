@@ -13,7 +13,7 @@
 #include "hdf5_forger.hpp"
 #include "io/restart.hpp"
 #include "run_fixture.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     using namespace vitrum;

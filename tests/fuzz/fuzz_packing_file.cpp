@@ -14,7 +14,7 @@
 #include "io/scene_reader.hpp"
 #include "io/units.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/time_step.hpp"
+#include "solver/run/plan_time_step.hpp"
 
 namespace {
 

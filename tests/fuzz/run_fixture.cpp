@@ -7,8 +7,9 @@
 #include "io/sha256.hpp"
 #include "io/units.hpp"
 #include "solver/effects/coupling.hpp"
-#include "solver/step/run_state.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/run_state.hpp"
+#include "solver/run/compose.hpp"
+#include "solver/run/plan_time_step.hpp"
 
 namespace vitrum::fuzz {
 

@@ -12,7 +12,7 @@
 #include "solver/effects/effects.hpp"
 #include "solver/model/model.hpp"
 #include "solver/scene.hpp"
-#include "solver/step/time_step.hpp"
+#include "solver/run/plan_time_step.hpp"
 
 namespace vitrum::fuzz {
 

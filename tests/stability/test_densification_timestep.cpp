@@ -18,7 +18,8 @@
 #include "solver/measure/hydrostatic.hpp"
 #include "solver/step/probes.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
+#include "solver/run/plan_time_step.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

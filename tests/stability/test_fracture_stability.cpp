@@ -17,7 +17,7 @@
 #include "solver/effects/fracture.hpp"
 #include "solver/step/frequency.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace vitrum {
 namespace {

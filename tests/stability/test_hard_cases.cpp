@@ -16,7 +16,7 @@
 #include "solver/step/frequency.hpp"
 #include "solver/step/probes.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace vitrum {
 namespace {

@@ -14,7 +14,7 @@
 #include "solver/effects/coupling.hpp"
 #include "solver/errors.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace vitrum {
 namespace {

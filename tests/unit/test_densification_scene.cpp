@@ -9,7 +9,7 @@
 #include "solver/errors.hpp"
 #include "solver/model/model.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace vitrum {
 namespace {

@@ -19,7 +19,7 @@
 #include "solver/errors.hpp"
 #include "solver/effects/fracture.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

@@ -9,7 +9,7 @@
 #include "kernels/pages.hpp"
 #include "solver/model/model.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

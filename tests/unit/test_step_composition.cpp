@@ -8,7 +8,7 @@
 
 #include "solver/effects/effects.hpp"
 #include "solver/model/model.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace vitrum {
 namespace {

@@ -18,7 +18,7 @@
 #include "kernels/parallel.hpp"
 #include "solver/step/frequency.hpp"
 #include "solver/step/probes.hpp"
-#include "solver/step/watchdog.hpp"
+#include "solver/run/watchdog.hpp"
 
 namespace vitrum {
 namespace {

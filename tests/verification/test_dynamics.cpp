@@ -13,7 +13,7 @@
 #include "kernels/timestep.hpp"
 #include "solver/step/probes.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace vitrum {
 namespace {

@@ -23,7 +23,7 @@
 #include "solver/effects/fracture.hpp"
 #include "solver/step/frequency.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 #include "support/test_support.hpp"
 
 namespace vitrum {

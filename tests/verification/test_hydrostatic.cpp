@@ -12,7 +12,7 @@
 #include "solver/measure/hydrostatic.hpp"
 #include "solver/model/model.hpp"
 #include "solver/effects/effects.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace vitrum {
 namespace {

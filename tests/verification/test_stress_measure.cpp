@@ -30,7 +30,7 @@
 #include "solver/model/model.hpp"
 #include "solver/model/tessellation.hpp"
 #include "solver/step/frequency.hpp"
-#include "solver/step/step.hpp"
+#include "solver/run/compose.hpp"
 
 namespace vitrum {
 namespace {

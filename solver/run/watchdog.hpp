@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "solver/effects/contact.hpp"
-#include "solver/step/run_state.hpp"
+#include "solver/run/run_state.hpp"
 #include "solver/model/model.hpp"
 
 namespace vitrum {
@@ -57,7 +57,7 @@ struct Neighbourhood {
 };
 Neighbourhood gatherNeighbourhood(const Model& model, long particle, double radius);
 
-/// A copy of the run's state (solver/step/run_state.hpp), taken at a step that passed the watchdog: what the
+/// A copy of the run's state (solver/run/run_state.hpp), taken at a step that passed the watchdog: what the
 /// driver writes as last_good_state.h5, a checkpoint a restart continues from ([output] last_good_state).
 ///
 /// Compact on one process: the fields no phase of the run writes are not copied, since the model still holds

@@ -1,4 +1,4 @@
-#include "solver/step/watchdog.hpp"
+#include "solver/run/watchdog.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -324,15 +324,6 @@ RunState StateSnapshot::state() {
     RunState s{particles, bonds, contacts ? &*contacts : nullptr, indenter ? &*indenter : nullptr, std::nullopt};
     if (coupled) {
         s.cnem.emplace(CnemState{cnem_displacement, cnem_velocity, cnem_force});
-    }
-    return s;
-}
-
-RunState runState(Model& model, Effects& effects) {
-    RunState s{model.particles, model.bonds, effects.contact ? &effects.contact->list : nullptr,
-               effects.indenter ? &*effects.indenter : nullptr, std::nullopt};
-    if (effects.coupling) {
-        s.cnem.emplace(cnemState(*effects.coupling));
     }
     return s;
 }

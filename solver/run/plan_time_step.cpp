@@ -1,15 +1,24 @@
-#include "solver/step/time_step.hpp"
+#include "solver/run/plan_time_step.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "solver/effects/coupling.hpp"
+#include "solver/effects/densification.hpp"
 #include "solver/effects/effects.hpp"
 #include "solver/errors.hpp"
 #include "solver/model/model.hpp"
 #include "solver/scene.hpp"
 
 namespace vitrum {
+
+FrequencyEstimate highestFrequencyFor(const Scene& scene, Model& m) {
+    if (scene.hasEffect(Effect::Densification) && scene.densification.property_evolution) {
+        return highestFrequencyDensified(m, densificationLaw(scene).evolution, scene.material);
+    }
+    return highestFrequency(m);
+}
 
 TimeStep planTimeStep(const Scene& scene, Model& model, Effects& effects) {
     TimeStep ts;

@@ -1,4 +1,4 @@
-#include "solver/step/recorder.hpp"
+#include "solver/run/recorder.hpp"
 
 #include <algorithm>
 #include <iomanip>
