@@ -138,6 +138,9 @@ std::string CrackSnapshots::observe(double a, long released, const std::function
         j["tool_depth_um"] = ind.depth();
         j["tool_force_N"] = ind.force() * 1e-3;
         j["released_particles"] = cr.released;
+        if (writes_) { // the classification beside its particles: a run stopped later keeps it
+            writeFileAtomically((out_ / ("cracks_" + tag + ".json")).string(), j.dump(2) + "\n");
+        }
         json_[tag] = j;
         return tag;
     };

@@ -79,6 +79,7 @@ void gatherWhole(Domain& domain, Model& local, Effects& effects, WholeModel& who
     whole.effects.fracture = effects.fracture;
     whole.effects.contact = effects.contact;
     whole.effects.indenter = effects.indenter;
+    whole.effects.plasticity = effects.plasticity;
     if (whole.effects.indenter) {
         whole.effects.indenter->contact_force = std::move(tool);
     }

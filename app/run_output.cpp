@@ -55,7 +55,8 @@ void clearEarlierOutputs(const fs::path& dir) {
     std::error_code ignored;
     for (const char* name : {"summary.json", "state.h5", "state.h5.tmp", "last_good_state.h5", "series.csv",
                              "maps.pvd", "cnem.pvd", "measure.json", "imprint.csv", "cutaway.csv", "cracks.csv",
-                             "cracks_onset.csv", "cracks_unstable.csv", "cracks_full_load.csv", "plots.log",
+                             "cracks_onset.csv", "cracks_unstable.csv", "cracks_full_load.csv", "cracks_onset.json",
+                             "cracks_unstable.json", "cracks_full_load.json", "plots.log",
                              "watchdog_particles.vtu", "watchdog_bonds.vtu"}) {
         fs::remove(dir / name, ignored);
     }

@@ -75,22 +75,30 @@ void poolOnce(const IncidenceView& inc, const RestStateView& bonds, const double
     });
 }
 
-/// `rings` rings of pooling of `data` (W columns), `work` the other buffer; the result ends in `data`.
+/// `rings` rings of pooling of `data` (W columns), `work` the other buffer; the result ends in `data`. On a
+/// rank the ghosts' rows are forwarded from their owners before each ring (their sums span bonds this rank
+/// does not hold).
 template <int W>
 void pool(const IncidenceView& inc, const RestStateView& bonds, int rings, std::vector<double>& data,
-          std::vector<double>& work) {
+          std::vector<double>& work, const GhostRows& ghosts) {
     for (int ring = 0; ring < rings; ++ring) {
+        if (ghosts.forward) {
+            ghosts.forward(ghosts.context, data.data(), W);
+        }
         poolOnce<W>(inc, bonds, data.data(), work.data());
         data.swap(work);
     }
 }
 
+std::size_t rowsOf(const IncidenceView& inc, const GhostRows& ghosts) { return std::max(inc.n, ghosts.rows); }
+
 } // namespace
 
 void referenceInverse(const IncidenceView& inc, const RestStateView& bonds, const double* initial, int rings,
-                      StrainWork& work) {
-    work.a.resize(6 * inc.n);
-    work.scratch.resize(9 * inc.n);
+                      StrainWork& work, const GhostRows& ghosts) {
+    const std::size_t rows = rowsOf(inc, ghosts);
+    work.a.resize(6 * rows);
+    work.scratch.resize(9 * rows);
     work.inverse.resize(9 * inc.n);
     perParticleBondSum<6>(inc, bonds, "plasticity.reference", work.a.data(),
                           [&](std::size_t p, std::size_t other, double* sum) {
@@ -100,7 +108,7 @@ void referenceInverse(const IncidenceView& inc, const RestStateView& bonds, cons
                               toVoigt(a, v);
                               for (int c = 0; c < 6; ++c) sum[c] += v[c];
                           });
-    pool<6>(inc, bonds, rings, work.a, work.scratch);
+    pool<6>(inc, bonds, rings, work.a, work.scratch, ghosts);
     parallelFor("plasticity.reference", inc.n, [&](std::size_t p) {
         const Mat3 a = fromVoigt(work.a.data() + 6 * p);
         const double scale = a.trace();
@@ -112,13 +120,15 @@ void referenceInverse(const IncidenceView& inc, const RestStateView& bonds, cons
             }
         }
     });
-    work.a.resize(9 * inc.n); // the B moments' buffer from now on
+    work.a.resize(9 * rows); // the B moments' buffer from now on
 }
 
 void pooledDeformation(const IncidenceView& inc, const RestStateView& bonds, const double* initial,
-                       const double* current, int rings, StrainWork& work, double* deformation) {
-    work.a.resize(9 * inc.n);
-    work.scratch.resize(9 * inc.n);
+                       const double* current, int rings, StrainWork& work, double* deformation,
+                       const GhostRows& ghosts) {
+    const std::size_t rows = rowsOf(inc, ghosts);
+    work.a.resize(9 * rows);
+    work.scratch.resize(9 * rows);
     perParticleBondSum<9>(inc, bonds, "plasticity.moments", work.a.data(),
                           [&](std::size_t p, std::size_t other, double* sum) {
                               const Vec3 dX = load3(initial, other) - load3(initial, p);
@@ -127,7 +137,7 @@ void pooledDeformation(const IncidenceView& inc, const RestStateView& bonds, con
                                   for (int c = 0; c < 3; ++c) sum[3 * r + c] += dx[r] * dX[c];
                               }
                           });
-    pool<9>(inc, bonds, rings, work.a, work.scratch);
+    pool<9>(inc, bonds, rings, work.a, work.scratch, ghosts);
     parallelFor("plasticity.gradient", inc.n, [&](std::size_t p) {
         const Mat3 b = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.a.data() + 9 * p);
         const Mat3 ainv = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.inverse.data() + 9 * p);

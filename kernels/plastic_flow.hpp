@@ -113,15 +113,26 @@ struct StrainWork {
     std::vector<double> released; ///< per bond: D_b of the last move, nJ (0 where the bond did not move)
 };
 
+/// The ghost rows of a rank's share of a run (solver/halo): the per-particle arrays have `rows` rows, the
+/// incidence's owned ones first and other ranks' particles after them; `forward` fills a ghost's row of an
+/// array of `width` doubles per particle from its owner, so a ring of pooling reads every neighbour's whole sum.
+/// One process: no ghosts (rows = the incidence's n, no forward).
+struct GhostRows {
+    std::size_t rows = 0;
+    void (*forward)(void* context, double* data, int width) = nullptr;
+    void* context = nullptr;
+};
+
 /// A_i = Σ ΔX ΔXᵀ over the intact bonds of i (P1), pooled over `rings` rings (P2), inverted into
 /// work.inverse (zeros where det A is below 1e-6 of (tr A)³, i.e. the chords are nearly coplanar).
 void referenceInverse(const IncidenceView& incidence, const RestStateView& bonds, const double* initial, int rings,
-                      StrainWork& work);
+                      StrainWork& work, const GhostRows& ghosts = {});
 
 /// F̄_i = (Σ Δx ΔXᵀ pooled) A⁻¹ of every particle (P1–P2) into `deformation` (9n, row-major; zeros where A⁻¹
 /// is), with work.inverse from referenceInverse on the same intact bonds; `initial`, `current` 3n, µm.
 void pooledDeformation(const IncidenceView& incidence, const RestStateView& bonds, const double* initial,
-                       const double* current, int rings, StrainWork& work, double* deformation);
+                       const double* current, int rings, StrainWork& work, double* deformation,
+                       const GhostRows& ghosts = {});
 
 /// The return of every particle (P3–P5) on state.deformation: updates E^p, e, γ̄, and writes the spatial
 /// increment and the yielded flag. Books no dissipation (moveRestStates does).

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "kernels/parallel.hpp"
 #include "solver/effects/effects.hpp"
+#include "solver/halo/halo.hpp"
 #include "solver/model/model.hpp"
 #include "solver/model/sample.hpp"
 #include "solver/scene.hpp"
@@ -62,29 +64,49 @@ RestStateView restStateView(Model& m) {
     return {b.size(),           b.i.data(),      b.j.data(),     b.broken.empty() ? nullptr : b.broken.data(),
             b.rest_length.data(), b.axis_i.data(), b.axis_j.data()};
 }
+/// The owned particles' plastic state (all of them on one process); the work arrays span every local row.
 PlasticStateView stateView(Model& m, Plasticity& fx) {
     Particles& p = m.particles;
-    return {p.size(),           p.plastic_strain.data(), p.compaction.data(), p.plastic_shear.data(),
+    return {ownedCount(m),      p.plastic_strain.data(), p.compaction.data(), p.plastic_shear.data(),
             p.plastic_work.data(), fx.deformation.data(), fx.increment.data(), fx.yielded.data()};
+}
+/// GhostRows::forward on a rank: the owners' rows of `data` into their ghosts (solver/halo).
+void forwardRows(void* domain, double* data, int width) {
+    forwardToGhosts(*static_cast<Domain*>(domain), {{data, static_cast<std::size_t>(width) * sizeof(double)}});
 }
 } // namespace
 
-PlasticReturnTotals plasticReturn(Model& m, Plasticity& fx) {
+PlasticReturnTotals plasticReturn(Model& m, Plasticity& fx, Domain* domain) {
     const RestStateView bonds = restStateView(m);
-    // The reference moments depend only on the intact bonds: rebuilt when fracture broke one since.
-    long long breaks = 0;
-    for (const std::int32_t b : m.particles.broken_bonds) { // empty without fracture; in index order
-        breaks += b;
-    }
+    // On a rank the work arrays cover its ghosts too (their number changes with the contact halo); the ring
+    // pooling reads the ghosts' sums, forwarded from their owners.
+    const std::size_t rows = m.particles.size();
+    fx.deformation.resize(9 * rows);
+    fx.increment.resize(6 * rows);
+    fx.yielded.resize(rows);
+    const GhostRows ghosts = domain ? GhostRows{rows, &forwardRows, domain} : GhostRows{};
+    // The reference moments depend only on the intact bonds (within two rings, which may lie on other ranks):
+    // rebuilt when fracture broke one anywhere since. Integer counts over the owned particles: exact.
+    const std::int32_t* per_particle = m.particles.broken_bonds.empty() ? nullptr : m.particles.broken_bonds.data();
+    const long long breaks = parallelReduce("plasticity.breaks", ownedCount(m), 0LL,
+                                            [&](std::size_t q, long long& acc) {
+                                                acc += per_particle ? per_particle[q] : 0;
+                                            }, particleSpan(m));
     if (breaks != fx.reference_breaks) {
-        referenceInverse(m.incidence.view(), bonds, m.particles.initial_position.data(), fx.law.rings, fx.strain);
+        referenceInverse(m.incidence.view(), bonds, m.particles.initial_position.data(), fx.law.rings, fx.strain,
+                         ghosts);
         fx.reference_breaks = breaks;
     }
     pooledDeformation(m.incidence.view(), bonds, m.particles.initial_position.data(), m.particles.position.data(),
-                      fx.law.rings, fx.strain, fx.deformation.data());
+                      fx.law.rings, fx.strain, fx.deformation.data(), ghosts);
     const PlasticStateView state = stateView(m, fx);
     fx.last = capReturnPass(fx.law, state);
-    if (fx.last.yielded > 0) {
+    bool moved = fx.last.yielded > 0;
+    if (domain) { // both copies of a cut bond move alike: each end's increment and flag from its owner
+        forwardToGhosts(*domain, {{fx.increment.data(), 6 * sizeof(double)}, {fx.yielded.data(), sizeof(std::uint8_t)}});
+        moved = std::any_of(fx.yielded.begin(), fx.yielded.end(), [](std::uint8_t y) { return y != 0; });
+    }
+    if (moved) {
         fx.last.dissipation = moveRestStates(m.bonds.view(), m.particles.view(), m.incidence.view(), bonds, fx.law,
                                              state, fx.strain);
     }
@@ -97,28 +119,50 @@ void addPlasticityPhase(Step& step) {
         Plasticity& fx = *c.effects.plasticity;
         const long long n = std::llround(c.time / c.dt);
         if (n % fx.check_every == 0) {
-            plasticReturn(c.model, fx);
+            plasticReturn(c.model, fx, c.domain);
         }
     });
 }
 
+namespace {
+/// The sums behind PlasticTotals, combined by the fixed tree (the largest value by max: any order).
+struct PlasticSums {
+    long long plastic = 0;
+    double volume_loss = 0.0, dissipation = 0.0, volume = 0.0, densified = 0.0, largest = 0.0;
+    PlasticSums& operator+=(const PlasticSums& o) {
+        plastic += o.plastic;
+        volume_loss += o.volume_loss;
+        dissipation += o.dissipation;
+        volume += o.volume;
+        densified += o.densified;
+        largest = std::max(largest, o.largest);
+        return *this;
+    }
+};
+} // namespace
+
 PlasticTotals plasticTotals(const Model& model, const Plasticity& fx) {
+    // The owned particles (all of them on one process), summed by the fixed tree over the ranks' chunks: the
+    // same bits on any number of threads and ranks.
     const Particles& p = model.particles;
-    PlasticTotals t;
-    double volume = 0.0;
-    double densified = 0.0;
-    for (std::size_t q = 0; q < p.size(); ++q) { // in index order: the same bits on any thread count
+    const PlasticSums sum = parallelReduce("plasticity.totals", ownedCount(model), PlasticSums{},
+                                           [&](std::size_t q, PlasticSums& acc) {
         const double R = p.radius[q];
         const double omega = fx.law.volume_factor * (4.0 / 3.0) * std::numbers::pi * R * R * R;
         const double e = p.compaction[q];
-        t.plastic_particles += (e > 0.0 || p.plastic_shear[q] > 0.0) ? 1 : 0;
-        t.volume_loss += omega * -std::expm1(-e);
-        t.dissipation += omega * p.plastic_work[q];
-        volume += omega;
-        densified += omega * std::expm1(e);
-        t.max_compaction = std::max(t.max_compaction, std::expm1(e));
-    }
-    t.mean_compaction = volume > 0.0 ? densified / volume : 0.0;
+        acc.plastic += (e > 0.0 || p.plastic_shear[q] > 0.0) ? 1 : 0;
+        acc.volume_loss += omega * -std::expm1(-e);
+        acc.dissipation += omega * p.plastic_work[q];
+        acc.volume += omega;
+        acc.densified += omega * std::expm1(e);
+        acc.largest = std::max(acc.largest, std::expm1(e));
+    }, particleSpan(model));
+    PlasticTotals t;
+    t.plastic_particles = sum.plastic;
+    t.volume_loss = sum.volume_loss;
+    t.dissipation = sum.dissipation;
+    t.mean_compaction = sum.volume > 0.0 ? sum.densified / sum.volume : 0.0;
+    t.max_compaction = sum.largest;
     return t;
 }
 

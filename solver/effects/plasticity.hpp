@@ -21,6 +21,7 @@
 namespace vitrum {
 
 class Step;
+struct Domain;
 struct Model;
 struct RunClock;
 struct Scene;
@@ -52,9 +53,11 @@ std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model);
 void addPlasticityPhase(Step& step);
 
 /// One return now (what the phase does on its steps): F, the return, the rest states and their dissipation.
-PlasticReturnTotals plasticReturn(Model& model, Plasticity& plasticity);
+/// On a rank (`domain` set) the owned particles return and the ghosts' pooled sums, increments and flags come
+/// from their owners, so every cut bond moves alike on both ranks.
+PlasticReturnTotals plasticReturn(Model& model, Plasticity& plasticity, Domain* domain = nullptr);
 
-/// Totals of the plastic state.
+/// Totals of the owned particles' plastic state (collective on ranks: summed over them in a fixed order).
 struct PlasticTotals {
     long long plastic_particles = 0; ///< particles with e > 0 or γ̄ > 0
     double volume_loss = 0.0;        ///< Σ Ω_i (1 − exp(−e_i)), µm³: the volume the compaction removed

@@ -26,11 +26,6 @@ void refuseUnsupported(const Scene& scene, int ranks) {
                          "; expected a run on one rank (without mpirun, or mpirun -n 1), or effects.list without "
                          "\"coupling\"");
     }
-    if (scene.hasEffect(Effect::Plasticity)) {
-        throw InputError(where + "effect 'plasticity'" + on +
-                         " (its 2-ring halo of moments is not exchanged); expected a run on one rank, or effects.list "
-                         "without \"plasticity\"");
-    }
     if (!scene.loads.empty()) {
         throw InputError(where + "[[load]] (pressure or stress on a convex hull of the whole sample)" + on +
                          "; expected a run on one rank, or the load applied through [[boundary]] conditions or the "

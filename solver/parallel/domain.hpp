@@ -37,7 +37,7 @@ struct Scene;
 /// and, on a restart, the checkpoint): `local` gets the owned particles and their ghosts, the bonds with an
 /// owned end, the incidence of the owned particles and the owned members of every set; `effects` (built on
 /// `full`) has its per-particle state cut to the local particles. Returns the domain with the bond halo.
-/// Refuses (InputError) what cannot run on several ranks yet: effects coupling and plasticity, [[load]]
+/// Refuses (InputError) what cannot run on several ranks yet: effect coupling, [[load]]
 /// pressure or stress, fracture.volume = "cells", [measure] (uniaxial or material_test).
 Domain localize(const Scene& scene, const Model& full, Effects& effects, Comm& comm, Model& local);
 

@@ -103,8 +103,7 @@ Step composeStep(const Model& model, const Effects& fx) {
     coupled ? addCoupledKickDriftPhase(step) : addKickDriftPhase(step);
     if (hasDisplacementBoundary(model)) addPrescribedDisplacementPhase(step);
     if (fx.indenter) addIndenterMovePhase(step);
-    if (fx.plasticity) addPlasticityPhase(step);
-    if (model.part) { // every ghost current before the bond pass reads it (solver/halo)
+    if (model.part) { // every ghost current before the plastic return and the bond pass read it (solver/halo)
         step.add("halo.forward", true, [](StepContext& c) {
             if (c.domain == nullptr) {
                 throw std::logic_error("halo.forward: a rank's step runs without its domain");
@@ -112,6 +111,7 @@ Step composeStep(const Model& model, const Effects& fx) {
             forwardState(*c.domain, c.model);
         });
     }
+    if (fx.plasticity) addPlasticityPhase(step);
     addBondPhase(step, fx);
     addGatherPhase(step);
     if (fx.contact) addContactPhases(step);

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -92,6 +93,11 @@ TEST(IndentationStability, FragmentsBrokenOffByTheToolHitItAndStayBoundedAndInsi
     ASSERT_TRUE(m["crack_snapshots"].contains("full_load")) << m["crack_snapshots"].dump();
     EXPECT_TRUE(fs::exists(dir / "cracks_full_load.csv"));
     EXPECT_GE(m["crack_snapshots"]["full_load"]["tool_force_N"].get<double>(), 0.004 * 0.95);
+    // The snapshot's classification is also written when it is taken (a run stopped later keeps it): the
+    // same JSON as the summary's.
+    std::ifstream snapshot(dir / "cracks_full_load.json");
+    ASSERT_TRUE(snapshot.good());
+    EXPECT_EQ(nlohmann::json::parse(snapshot), m["crack_snapshots"]["full_load"]);
     Particles p;
     Bonds b;
     testing::readStores((dir / "state.h5").string(), p, b);
