@@ -41,21 +41,25 @@ namespace {
 
 constexpr double kNewtonPerMilliNewton = 1e-3;
 
-/// Set by SIGINT/SIGTERM; the loop checks it each step, writes a checkpoint and stops.
+/// Set by SIGINT/SIGTERM/SIGUSR1; the loop checks it each step, writes a checkpoint and stops. SIGUSR1 is the one
+/// Open MPI's mpirun forwards without a SIGKILL one second later (it does that after SIGTERM), and the one a
+/// batch system sends ahead of a time limit (Slurm's --signal=USR1@120).
 volatile std::sig_atomic_t g_stop_signal = 0;
 extern "C" void onStopSignal(int signal) { g_stop_signal = signal; }
 
-/// SIGINT/SIGTERM caught from the start of the run (the set-up included) to its end, then restored.
+/// SIGINT/SIGTERM/SIGUSR1 caught from the start of the run (the set-up included) to its end, then restored.
 struct StopSignals {
-    decltype(std::signal(SIGINT, SIG_DFL)) on_int, on_term;
+    decltype(std::signal(SIGINT, SIG_DFL)) on_int, on_term, on_usr1;
     StopSignals() {
         g_stop_signal = 0;
         on_int = std::signal(SIGINT, onStopSignal);
         on_term = std::signal(SIGTERM, onStopSignal);
+        on_usr1 = std::signal(SIGUSR1, onStopSignal);
     }
     ~StopSignals() {
         std::signal(SIGINT, on_int);
         std::signal(SIGTERM, on_term);
+        std::signal(SIGUSR1, on_usr1);
     }
     StopSignals(const StopSignals&) = delete;
     StopSignals& operator=(const StopSignals&) = delete;
@@ -273,7 +277,7 @@ LoopEnd timeLoop(Loop& l, long first) {
 
 int runScene(const RunOptions& options) {
     const auto wall_start = Clock::now();
-    const StopSignals signals; // from here on, SIGINT/SIGTERM end the run cleanly
+    const StopSignals signals; // from here on, SIGINT/SIGTERM/SIGUSR1 end the run cleanly
     setThreadCount(options.threads);
     KernelTimers::instance().reset();
     // Under an MPI launcher (even on one rank) the run is decomposed over the ranks (solver/parallel): each
