@@ -10,6 +10,7 @@
 #include "io/atomic_file.hpp"
 #include "kernels/views.hpp"
 #include "kernels/strain.hpp"
+#include "solver/errors.hpp"
 #include "solver/measure/cracks.hpp"
 #include "solver/measure/densified_zone.hpp"
 #include "solver/measure/imprint.hpp"
@@ -108,6 +109,38 @@ CrackSnapshots::CrackSnapshots(double mean_radius, const Effects& effects, fs::p
             first_load_ = static_cast<int>(k);
             break;
         }
+    }
+}
+
+std::string CrackSnapshots::observations() const {
+    nlohmann::ordered_json j;
+    j["onset_taken"] = onset_taken_;
+    j["unstable_taken"] = unstable_taken_;
+    j["full_load_taken"] = full_load_taken_;
+    j["max_force"] = max_force_;
+    j["released_seen"] = released_seen_;
+    j["last_contact_radius"] = last_contact_radius_;
+    j["snapshots"] = json_;
+    return nlohmann::ordered_json{{"crack_snapshots", j}}.dump();
+}
+
+void CrackSnapshots::restoreObservations(const std::string& text, const std::string& source) {
+    try {
+        const nlohmann::ordered_json all = nlohmann::ordered_json::parse(text);
+        if (!all.contains("crack_snapshots")) {
+            return; // written by a run without crack snapshots
+        }
+        const nlohmann::ordered_json& j = all.at("crack_snapshots");
+        onset_taken_ = j.at("onset_taken").get<bool>();
+        unstable_taken_ = j.at("unstable_taken").get<bool>();
+        full_load_taken_ = j.at("full_load_taken").get<bool>();
+        max_force_ = j.at("max_force").get<double>();
+        released_seen_ = j.at("released_seen").get<long>();
+        last_contact_radius_ = j.at("last_contact_radius").get<double>();
+        json_ = j.at("snapshots");
+    } catch (const nlohmann::json::exception& e) {
+        throw InputError(source + ": attribute 'observations' is not the crack snapshots' record (" +
+                         std::string(e.what()) + "); expected the JSON a vitrum run writes there");
     }
 }
 

@@ -55,6 +55,11 @@ public:
     nlohmann::ordered_json& json() { return json_; }
     /// The largest contact radius seen while loading, µm (the farthest contact point from the axis).
     double maxContactRadius() const { return last_contact_radius_; }
+    /// What these snapshots have seen so far (the snapshots taken and the running values they decide on), as
+    /// JSON text for a checkpoint; restoreObservations(text) continues from it, so a restarted run reports the
+    /// snapshots taken before its restart. Throws InputError (naming `source`) on text it cannot read.
+    std::string observations() const;
+    void restoreObservations(const std::string& text, const std::string& source);
 
 private:
     double mean_radius_;

@@ -116,7 +116,8 @@ int stopSignal(Comm& comm) {
 }
 
 CheckpointMeta checkpointMeta(const Loop& l, long step, double time) {
-    return CheckpointMeta{step, time, l.ts.dt, l.scene.name, l.scene_sha256, VITRUM_VERSION};
+    return CheckpointMeta{step,           time, l.ts.dt, l.scene.name, l.scene_sha256, VITRUM_VERSION,
+                          l.cracks ? l.cracks->observations() : std::string{}};
 }
 
 /// Steps first … ts.steps (or until the stages end, a --stop-after count, a signal or the watchdog).
@@ -331,9 +332,11 @@ int runScene(const RunOptions& options) {
     const bool restarting = !options.restart.empty();
     bool complete = false;
     double restart_time = 0.0;
+    std::string observations; // a restart's record of the crack snapshots already taken
     agreed(comm, [&] {
         if (!restarting) return;
         const CheckpointMeta meta = restoreRun(options.restart, scene_sha256, model, effects);
+        observations = meta.observations;
         if (meta.dt != ts.dt || meta.step > ts.steps) {
             throw InputError(options.restart + ": checkpoint at step " + std::to_string(meta.step) + " with dt = " +
                              std::to_string(meta.dt) + " ns does not fit this run (" + std::to_string(ts.steps) +
@@ -411,6 +414,9 @@ int runScene(const RunOptions& options) {
     std::optional<CrackSnapshots> cracks; // effects fracture + indenter: crack maps at onset and full load
     if (effects.indenter && effects.fracture) {
         cracks.emplace(mean_radius, effects, out, root);
+        if (!observations.empty()) {
+            cracks->restoreObservations(observations, options.restart);
+        }
     }
     const std::string ranks_line = domain ? rankLine(*domain, model) : "";
     if (verbose) {

@@ -440,6 +440,9 @@ void writeCheckpoint(const std::string& path, const CheckpointMeta& meta, const 
         writer.attribute(root, "step", static_cast<std::int64_t>(meta.step));
         writer.attribute(root, "time", meta.time);
         writer.attribute(root, "dt", meta.dt);
+        if (!meta.observations.empty()) {
+            writer.attribute(root, "observations", meta.observations);
+        }
         writer.store(root, "particles", state.particles.size(), state.particles);
         writer.store(root, "bonds", state.bonds.size(), state.bonds);
         if (state.contacts) {
@@ -521,6 +524,9 @@ CheckpointMeta readCheckpoint(const std::string& path, RunState& state) {
     meta.step = reader.attribute<std::int64_t>(root, "step", owner);
     meta.time = reader.attribute<double>(root, "time", owner);
     meta.dt = reader.attribute<double>(root, "dt", owner);
+    if (H5Aexists(root, "observations") > 0) {
+        meta.observations = reader.stringAttribute(root, "observations", owner);
+    }
 
     // Read into fresh copies and hand them over only once everything is consistent.
     Particles p;

@@ -37,6 +37,9 @@ struct CheckpointMeta {
     std::string scene_name;
     std::string scene_sha256; ///< SHA-256 of the resolved scene text: a restart with another scene is refused
     std::string vitrum_version; ///< set by the caller on writing (the driver owns the version string)
+    /// What the run has observed so far that the state does not hold (the crack snapshots already taken), as
+    /// the driver's JSON text; empty: nothing. Written only when not empty; a restart hands it back.
+    std::string observations;
 };
 
 /// Keeps the HDF5 library from running its own clean-up at process exit. Call first thing in main: a file whose

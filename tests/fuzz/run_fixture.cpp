@@ -109,7 +109,7 @@ RunFixture build(const char* name, const char* text, long steps) {
     }
     f.steps_run = steps;
     f.checkpoint = scratchDir() + "/" + name + "-state.h5";
-    const CheckpointMeta meta{steps, ctx.time, f.time_step.dt, f.scene.name, f.scene_sha256, VITRUM_VERSION};
+    const CheckpointMeta meta{steps, ctx.time, f.time_step.dt, f.scene.name, f.scene_sha256, VITRUM_VERSION, {}};
     writeCheckpoint(f.checkpoint, meta, runState(model, effects));
     f.tree = snapshot(f.checkpoint);
     return f;

@@ -476,7 +476,7 @@ TEST(FractureCheckpoint, DamageStateAndContactHistoryRoundTrip) {
     contacts.tangential[3 * 4 + 2] = -0.125;
     const auto dir = testing::freshTempDir("fracture-checkpoint");
     const std::string path = (dir / "state.h5").string();
-    testing::writeStores(path, m.particles, m.bonds, CheckpointMeta{5, 0.5, 0.1, "x", std::string(64, 'a'), "v"},
+    testing::writeStores(path, m.particles, m.bonds, CheckpointMeta{5, 0.5, 0.1, "x", std::string(64, 'a'), "v", {}},
                          &contacts);
     Particles p;
     Bonds b;
@@ -494,7 +494,7 @@ TEST(FractureCheckpoint, DamageStateAndContactHistoryRoundTrip) {
     EXPECT_EQ(history.tangential[2], -0.125);
     // Without the effect the state is stored empty and read back empty.
     Model plain = lattice(200);
-    testing::writeStores(path, plain.particles, plain.bonds, CheckpointMeta{5, 0.5, 0.1, "x", std::string(64, 'a'), "v"});
+    testing::writeStores(path, plain.particles, plain.bonds, CheckpointMeta{5, 0.5, 0.1, "x", std::string(64, 'a'), "v", {}});
     ContactList none;
     testing::readStores(path, p, b, &none);
     EXPECT_TRUE(p.released.empty());

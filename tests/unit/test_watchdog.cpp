@@ -200,7 +200,7 @@ TEST(Watchdog, TheReportWritesARestartableLastGoodStateAndTheNeighbourhoodMaps) 
     m.particles.velocity[3 * 100] = std::nan(""); // the failed state differs from the snapshot
     m.particles.position[3 * 100 + 2] += 0.2;
     const std::string text =
-        reportInstability(dir, CheckpointMeta{0, 0.0, 0.01, "cube", "abc", "test"}, 0.1, m, Effects{}, good, 100);
+        reportInstability(dir, CheckpointMeta{0, 0.0, 0.01, "cube", "abc", "test", {}}, 0.1, m, Effects{}, good, 100);
     EXPECT_NE(text.find("likely cause: time step"), std::string::npos) << text;
     EXPECT_NE(text.find("last good state (step 300"), std::string::npos) << text;
     ASSERT_TRUE(fs::exists(dir / "watchdog_particles.vtu")) << text;
