@@ -88,10 +88,11 @@ PlasticReturnTotals plasticReturn(Model& m, Plasticity& fx, Domain* domain) {
     // The reference moments depend only on the intact bonds (within two rings, which may lie on other ranks):
     // rebuilt when fracture broke one anywhere since. Integer counts over the owned particles: exact.
     const std::int32_t* per_particle = m.particles.broken_bonds.empty() ? nullptr : m.particles.broken_bonds.data();
-    const long long breaks = parallelReduce("plasticity.breaks", ownedCount(m), 0LL,
-                                            [&](std::size_t q, long long& acc) {
-                                                acc += per_particle ? per_particle[q] : 0;
-                                            }, particleSpan(m));
+    // Without fracture there is nothing to count (every rank alike, so no rank waits on a collective).
+    const long long breaks = !per_particle ? 0
+                                           : parallelReduce("plasticity.breaks", ownedCount(m), 0LL,
+                                                            [&](std::size_t q, long long& acc) { acc += per_particle[q]; },
+                                                            particleSpan(m));
     if (breaks != fx.reference_breaks) {
         referenceInverse(m.incidence.view(), bonds, m.particles.initial_position.data(), fx.law.rings, fx.strain,
                          ghosts);
