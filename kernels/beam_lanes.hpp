@@ -452,6 +452,24 @@ template <int W>
     return factor;
 }
 
+/// Bonds ahead whose far ends are prefetched (prefetchEnds).
+inline constexpr std::size_t kPrefetchBonds = 32;
+/// Asks for the position and orientation rows of the j ends of block m (if it exists): the i ends ascend
+/// with the bond index and stream, the j ends jump, and the pass waits on them (the hottest instructions of a
+/// profile are the loads of those rows). A hint only: no value changes.
+template <int W>
+[[gnu::always_inline]] inline void prefetchEnds(const BondView& b, const ParticleView& p, std::size_t m) noexcept {
+    const std::size_t first = static_cast<std::size_t>(W) * m;
+    if (first + W > b.n) {
+        return;
+    }
+    for (int l = 0; l < W; ++l) {
+        const auto j = static_cast<std::size_t>(b.j[first + static_cast<std::size_t>(l)]);
+        __builtin_prefetch(p.position + 3 * j);
+        __builtin_prefetch(p.orientation + 4 * j);
+    }
+}
+
 // ---- the lane pass ------------------------------------------------------------------------------------------
 /// Bonds in fixed blocks (W m … W m + W − 1): kinematics, slider check, beam law, dashpots in lanes; a bond
 /// that is broken, out of the series range or slipping takes the scalar path (see the file header).
@@ -460,6 +478,7 @@ inline void beamBlock(const BondView& b, const ParticleView& p, const detail::Be
     using Real = typename Lanes<W>::Real;
     using Mask = typename Lanes<W>::Mask;
     const Block<W> blk = blockOf<W>(b, m);
+    prefetchEnds<W>(b, p, m + kPrefetchBonds / W);
     KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
     const Real l0 = bond1<W>(b.rest_length, blk);
     const Real total_stretch = kin.stretch; // l − l₀, what a slipping lane's scalar path starts from

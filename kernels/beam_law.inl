@@ -54,25 +54,45 @@ VITRUM_LAW R atanOverArgSeries(R x) noexcept {
 ///    root, no atan2 (atanOverArgSeries; agrees with the atan2 form to a few ulp); `in_range` says so;
 ///  * larger angles: the scalar instantiation falls back to atan2(S, C)/S; a lane reports `in_range` false
 ///    and its bond leaves the lanes.
+/// In two stages (chordAngle, then rotationOfChord), so that beamKinematics can interleave the two ends'
+/// independent dependency chains in the order it writes them: the lane pass waits on latency, and the
+/// compiler keeps the written order.
+template <class R>
+struct ChordAngle {
+    Vec3T<R> c;         ///< d × m, |c| = S
+    R s2;               ///< S²
+    R cosine;           ///< C = d·m
+    R half_denominator; ///< l + C
+};
+template <class R>
+VITRUM_LAW ChordAngle<R> chordAngle(const Vec3T<R>& chord, R length, const Vec3T<R>& normal) noexcept {
+    ChordAngle<R> a;
+    a.c = cross(chord, normal);
+    a.s2 = dot(a.c, a.c);
+    a.cosine = dot(chord, normal);
+    a.half_denominator = length + a.cosine;
+    return a;
+}
+/// The rotation vector of chordAngle's `a`, with inv = 1/(l + C).
+template <class R>
+VITRUM_LAW Vec3T<R> rotationOfChord(const ChordAngle<R>& a, R inv, MaskOf<R>& in_range) noexcept {
+    in_range = (a.cosine > 0.0) & (a.s2 <= kAtanSeriesLimit * (a.half_denominator * a.half_denominator));
+    if constexpr (std::is_floating_point_v<R>) {
+        if (!in_range) {
+            const R s = std::sqrt(a.s2);
+            // φ/S → 1/(l cos φ)·(1 + …) as S → 0; S = 0 only at φ = 0 (in range) or φ = π, where the
+            // direction is undefined: no rotation vector then.
+            const R ratio = s < 1e-300 ? 0.0 : std::atan2(s, a.cosine) / s;
+            return ratio * a.c;
+        }
+    }
+    return (2.0 * inv * atanOverArgSeries(a.s2 * (inv * inv))) * a.c;
+}
 template <class R>
 VITRUM_LAW Vec3T<R> bendingRotationOfChord(const Vec3T<R>& chord, R length, const Vec3T<R>& normal,
                                            MaskOf<R>& in_range) noexcept {
-    const Vec3T<R> c = cross(chord, normal);
-    const R s2 = dot(c, c);
-    const R cosine = dot(chord, normal);
-    const R half_denominator = length + cosine;
-    const R inv = 1.0 / half_denominator;
-    in_range = (cosine > 0.0) & (s2 <= kAtanSeriesLimit * (half_denominator * half_denominator));
-    if constexpr (std::is_floating_point_v<R>) {
-        if (!in_range) {
-            const R s = std::sqrt(s2);
-            // φ/S → 1/(l cos φ)·(1 + …) as S → 0; S = 0 only at φ = 0 (in range) or φ = π, where the
-            // direction is undefined: no rotation vector then.
-            const R ratio = s < 1e-300 ? 0.0 : std::atan2(s, cosine) / s;
-            return ratio * c;
-        }
-    }
-    return (2.0 * inv * atanOverArgSeries(s2 * (inv * inv))) * c;
+    const ChordAngle<R> a = chordAngle(chord, length, normal);
+    return rotationOfChord(a, 1.0 / a.half_denominator, in_range);
 }
 
 /// Twist ψ ∈ (−π, π] of the rotation `rel` about the chord d = l x̂ (swing–twist decomposition):
@@ -107,8 +127,15 @@ VITRUM_LAW BeamKinematicsT<R> beamKinematics(const Vec3T<R>& xi, const Vec3T<R>&
     k.length = sqrtOf(dot(d, d));
     const R inv_length = 1.0 / k.length;
     MaskOf<R> ok_i, ok_j, ok_twist;
-    k.theta_i = bendingRotationOfChord(d, k.length, rotate(qi, axis_i_body), ok_i);
-    k.theta_j = bendingRotationOfChord(d, k.length, rotate(qj, axis_j_body), ok_j);
+    // The two ends' chains interleaved, stage by stage (bendingRotationOfChord, for each end).
+    const Vec3T<R> normal_i = rotate(qi, axis_i_body);
+    const Vec3T<R> normal_j = rotate(qj, axis_j_body);
+    const ChordAngle<R> angle_i = chordAngle(d, k.length, normal_i);
+    const ChordAngle<R> angle_j = chordAngle(d, k.length, normal_j);
+    const R inv_i = 1.0 / angle_i.half_denominator;
+    const R inv_j = 1.0 / angle_j.half_denominator;
+    k.theta_i = rotationOfChord(angle_i, inv_i, ok_i);
+    k.theta_j = rotationOfChord(angle_j, inv_j, ok_j);
     k.twist = twistAboutChord((qj * twist_ref) * conjugate(qi), d, k.length, ok_twist);
     k.axis = inv_length * d;
     k.stretch = k.length - rest_length;
