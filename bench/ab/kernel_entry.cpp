@@ -11,10 +11,16 @@ extern "C" __attribute__((visibility("default"))) int vitrum_ab_set_lanes(int wi
 
 /// One beam pass over `b`, `p`: elastic (densified = 0), or with the spring-slider (densified = 1; yield far
 /// above every stress, so that every bond stays on the lanes, as BM_BeamLanes/densified:1).
+/// densified = 2: not the beam pass but the gather of the bond loads onto the particles (`inc`).
 extern "C" __attribute__((visibility("default"))) void vitrum_ab_beam_pass(const vitrum::BondView* b,
                                                                            const vitrum::ParticleView* p,
+                                                                           const vitrum::IncidenceView* inc,
                                                                            int densified, double* slip,
                                                                            double* reference_strain) {
+    if (densified == 2) {
+        vitrum::gatherBondLoads(*inc, *b, *p);
+        return;
+    }
     if (densified == 0) {
         vitrum::computeBeamLoads(*b, *p);
         return;

@@ -5,6 +5,7 @@
 // round: the milliseconds of each tree's pass, in the order given.
 //
 //   vitrum_ab_paired PARTICLES LANES DENSIFIED ROUNDS LIB.so [LIB.so ...]
+// DENSIFIED: 0 the elastic beam pass, 1 with the spring-slider, 2 the gather of the loads instead.
 #include <dlfcn.h>
 
 #include <chrono>
@@ -16,7 +17,8 @@
 
 namespace {
 using SetLanes = int (*)(int);
-using BeamPass = void (*)(const vitrum::BondView*, const vitrum::ParticleView*, int, double*, double*);
+using BeamPass = void (*)(const vitrum::BondView*, const vitrum::ParticleView*, const vitrum::IncidenceView*, int,
+                          double*, double*);
 } // namespace
 
 int main(int argc, char** argv) {
@@ -50,11 +52,12 @@ int main(int argc, char** argv) {
     const auto model = vitrum_bench::makeModel(particles);
     const vitrum::BondView b = model->model.bonds.view();
     const vitrum::ParticleView p = model->model.particles.view();
+    const vitrum::IncidenceView inc = model->model.incidence.view();
     std::vector<double> slip(b.n, 0.0), reference(b.n, 0.0);
     const int n = static_cast<int>(passes.size());
     for (int v = 0; v < n; ++v) { // warm-up: pages, caches, branch history
         for (int w = 0; w < 3; ++w) {
-            passes[v](&b, &p, densified, slip.data(), reference.data());
+            passes[v](&b, &p, &inc, densified, slip.data(), reference.data());
         }
     }
     std::vector<std::vector<double>> ms(static_cast<std::size_t>(n));
@@ -62,7 +65,7 @@ int main(int argc, char** argv) {
         for (int o = 0; o < n; ++o) {
             const int v = r % 2 == 0 ? o : n - 1 - o;
             const auto start = std::chrono::steady_clock::now();
-            passes[v](&b, &p, densified, slip.data(), reference.data());
+            passes[v](&b, &p, &inc, densified, slip.data(), reference.data());
             const auto end = std::chrono::steady_clock::now();
             ms[static_cast<std::size_t>(v)].push_back(std::chrono::duration<double, std::milli>(end - start).count());
         }

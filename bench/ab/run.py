@@ -54,7 +54,7 @@ def main():
     ap.add_argument("revs", nargs="+", help="git revisions, or . for the working tree; the first is the reference")
     ap.add_argument("--particles", type=int, default=100000)
     ap.add_argument("--lanes", default="8,4,2", help="lane widths (a width the CPU lacks is skipped)")
-    ap.add_argument("--densified", default="0,1")
+    ap.add_argument("--densified", default="0,1", help="0 elastic, 1 with the slider, 2: the gather instead")
     ap.add_argument("--rounds", type=int, default=300)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
