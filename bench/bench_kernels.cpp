@@ -90,6 +90,20 @@ constexpr double kKickBytes = 4 + 16 + 48 + 96;
 constexpr double kDriftBytes = 72 + 32 + 56;
 constexpr double kIntegrateBytes = 2 * kKickBytes + kDriftBytes;
 
+// Plastic return (effect plasticity, kernels/plastic_flow.hpp), one return on the elastic branch (nothing
+// yields, as almost every particle on almost every return of a run; moveRestStates then does not run). DRAM
+// model, the bond ends' rows assumed to hit in cache as for the beam law:
+//  * the current moments (P1): per bond its two incidence entries (2×4), the far end's index (2×4) and broken
+//    flag (2×1) = 18 B; per particle the offset (4), initial and current position (48), 9 moments written (72);
+//  * each of the two pooling rings (P2): per bond 18 B as above; per particle the offset (4), its 9 moments read
+//    (72) and written (72);
+//  * F̄ = B A⁻¹: per particle B and A⁻¹ read, F̄ written (3×72);
+//  * the return (P3–P5): per particle F̄ (72), E^p (48), e and γ̄ (16) read; increment (48) and flag (1) written.
+// 54 B per bond and 821 B per particle. Flops: the moments 2 × (6 + 18) per bond, the pooling 2 × 2 × 9 per bond
+// (84 per bond); F̄ 45, the trial stress and the cap's check about 130 per particle (175).
+constexpr double kPlasticPerBond = 18 + 2 * 18;
+constexpr double kPlasticPerParticle = (4 + 48 + 72) + 2 * (4 + 72 + 72) + 3 * 72 + (72 + 48 + 16 + 48 + 1);
+
 /// Counters every model-based benchmark reports: the actual sizes, the thread count and, when a DRAM byte
 /// model is given (> 0), its rate in bytes per second.
 void reportCommon(benchmark::State& state, const BenchModel& bm, double dram_bytes_per_iteration) {
@@ -357,6 +371,38 @@ void BM_FullStepDensified(benchmark::State& state) {
         static_cast<double>(std::count_if(bm.model.bonds.slip.begin(), bm.model.bonds.slip.end(),
                                           [](double e) { return e > 0.0; })) / nb;
     state.SetLabel(step.describe());
+}
+
+/// The plasticity effect on the bench model with the calibrated silica's metric and cap
+/// (examples/calibration/silica.toml [plasticity]); the model's particles get its state.
+vitrum::Plasticity enablePlasticity(BenchModel& bm) {
+    vitrum::Scene scene = bm.scene;
+    scene.effects = {vitrum::Effect::Elasticity, vitrum::Effect::Plasticity};
+    vitrum::PlasticityParams& pp = scene.plasticity;
+    pp.bulk = 49.130539110596914;
+    pp.bulk_slope = 1.4107082659040922;
+    pp.shear = 37.66464562399886;
+    pp.shear_limit = 7.795155598233854;
+    pp.cap_ratio = 0.8612103477814669;
+    return *vitrum::buildPlasticity(scene, bm.model);
+}
+
+/// One return of the plasticity effect (plasticReturn: the pooled strain, the cap law's check on every
+/// particle), as the phase runs it every `check_every` steps. Nothing yields on the bench model (strains of
+/// 10⁻³), the branch nearly every particle takes on nearly every return of a run.
+void BM_PlasticReturn(benchmark::State& state) {
+    BenchModel& bm = modelFor(state.range(0));
+    vitrum::Plasticity fx = enablePlasticity(bm);
+    vitrum::plasticReturn(bm.model, fx); // the reference moments, once
+    for (auto _ : state) {
+        vitrum::plasticReturn(bm.model, fx);
+        benchmark::ClobberMemory();
+    }
+    const double nb = static_cast<double>(bm.model.bonds.size());
+    const double np = static_cast<double>(bm.model.particles.size());
+    state.SetItemsProcessed(asItems(np * static_cast<double>(state.iterations())));
+    reportCommon(state, bm, kPlasticPerBond * nb + kPlasticPerParticle * np);
+    state.counters["yielded"] = static_cast<double>(fx.last.yielded);
 }
 
 /// STREAM-style triad a[i] = b[i] + s·c[i] through vitrum::parallelFor (same threading and static schedule
@@ -730,6 +776,7 @@ BENCHMARK(BM_FullStep)->Apply(particleCounts);
 BENCHMARK(BM_PeakFlops)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_BeamLoadsDensified)->Apply(particleCounts);
 BENCHMARK(BM_FullStepDensified)->Apply(particleCounts);
+BENCHMARK(BM_PlasticReturn)->Apply(particleCounts);
 BENCHMARK(BM_BeamLanes)
     ->ArgNames({"n", "lanes", "densified"})
     ->ArgsProduct({{1000, 10000, 100000, 1000000}, {2, 4, 8}, {0, 1}})
