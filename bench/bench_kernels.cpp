@@ -93,16 +93,19 @@ constexpr double kIntegrateBytes = 2 * kKickBytes + kDriftBytes;
 // Plastic return (effect plasticity, kernels/plastic_flow.hpp), one return on the elastic branch (nothing
 // yields, as almost every particle on almost every return of a run; moveRestStates then does not run). DRAM
 // model, the bond ends' rows assumed to hit in cache as for the beam law:
-//  * the current moments (P1): per bond its two incidence entries (2×4), the far end's index (2×4) and broken
-//    flag (2×1) = 18 B; per particle the offset (4), initial and current position (48), 9 moments written (72);
-//  * each of the two pooling rings (P2): per bond 18 B as above; per particle the offset (4), its 9 moments read
+//  * the neighbour lists: per bond its two incidence entries (2×4), the far end's index (2×4) and broken flag
+//    (2×1) read, two list entries written (2×4) = 26 B; per particle the offsets read and written (8);
+//  * the current moments (P1): per bond two list entries (8); per particle its offset (4), initial and current
+//    position (48), 9 moments written (72);
+//  * each of the two pooling rings (P2): per bond 8 B as above; per particle the offset (4), its 9 moments read
 //    (72) and written (72);
 //  * F̄ = B A⁻¹: per particle B and A⁻¹ read, F̄ written (3×72);
 //  * the return (P3–P5): per particle F̄ (72), E^p (48), e and γ̄ (16) read; increment (48) and flag (1) written.
-// 54 B per bond and 821 B per particle. Flops: the moments 2 × (6 + 18) per bond, the pooling 2 × 2 × 9 per bond
+// 50 B per bond and 829 B per particle. Flops: the moments 2 × (6 + 18) per bond, the pooling 2 × 2 × 9 per bond
 // (84 per bond); F̄ 45, the trial stress and the cap's check about 130 per particle (175).
-constexpr double kPlasticPerBond = 18 + 2 * 18;
-constexpr double kPlasticPerParticle = (4 + 48 + 72) + 2 * (4 + 72 + 72) + 3 * 72 + (72 + 48 + 16 + 48 + 1);
+constexpr double kPlasticPerBond = 26 + 3 * 8;
+constexpr double kPlasticPerParticle =
+    8 + (4 + 48 + 72) + 2 * (4 + 72 + 72) + 3 * 72 + (72 + 48 + 16 + 48 + 1);
 
 /// Counters every model-based benchmark reports: the actual sizes, the thread count and, when a DRAM byte
 /// model is given (> 0), its rate in bytes per second.

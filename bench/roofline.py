@@ -29,7 +29,7 @@ KERNELS = [
     ("BM_BeamLoads", 193, 56, 320, 0, "beam law (elastic)"),
     ("BM_BeamLoadsDensified", 225, 56, 335, 0, "beam law + spring-slider (elastic branch, evolution on)"),
     ("BM_Gather", 80, 52, 18, 0, "CSR gather of bond loads"),
-    ("BM_PlasticReturn", 54, 821, 84, 175, "plastic return (pooled strain, cap check; nothing yields)"),
+    ("BM_PlasticReturn", 50, 829, 84, 175, "plastic return (pooled strain, cap check; nothing yields)"),
     ("BM_Integrate", 0, 488, 0, 110, "half kick + drift + half kick"),
     ("BM_VirialStress", 41, 84, 40, 8, "eq (10) stress, bond part (fracture model: half the bonds broken)"),
     ("BM_FractureRelease", 0, 60, 0, 3, "hydrostatic release, judge pass only"),

@@ -39,17 +39,38 @@ Mat3 fromVoigt(const double* v) {
 
 namespace {
 
-/// Σ over the intact bonds of p of f(dX, other) into `out` (width doubles per particle), in incidence order.
-template <int W, class F>
-void perParticleBondSum(const IncidenceView& inc, const RestStateView& bonds, const char* label, double* out, F f) {
-    parallelFor(label, inc.n, [&](std::size_t p) {
-        double sum[W] = {};
+/// The intact bonded neighbours of every particle, in incidence order, into work.neighbour_offset / neighbour.
+void buildNeighbours(const IncidenceView& inc, const RestStateView& bonds, StrainWork& work) {
+    work.neighbour_offset.assign(inc.n + 1, 0);
+    parallelFor("plasticity.neighbours", inc.n, [&](std::size_t p) {
+        std::int32_t count = 0;
+        for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
+            count += intact(bonds, inc.entry[k] >> 1) ? 1 : 0;
+        }
+        work.neighbour_offset[p + 1] = count;
+    });
+    for (std::size_t p = 0; p < inc.n; ++p) {
+        work.neighbour_offset[p + 1] += work.neighbour_offset[p];
+    }
+    work.neighbour.resize(static_cast<std::size_t>(work.neighbour_offset[inc.n]));
+    parallelFor("plasticity.neighbours", inc.n, [&](std::size_t p) {
+        std::int32_t at = work.neighbour_offset[p];
         for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) {
             const std::int32_t bond = inc.entry[k] >> 1;
-            if (!intact(bonds, bond)) {
-                continue;
+            if (intact(bonds, bond)) {
+                work.neighbour[static_cast<std::size_t>(at++)] = inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond];
             }
-            f(p, static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]), sum);
+        }
+    });
+}
+
+/// Σ over the intact bonds of p of f(p, other) into `out` (W doubles per particle), in incidence order.
+template <int W, class F>
+void perParticleBondSum(std::size_t n, const StrainWork& work, const char* label, double* out, F f) {
+    parallelFor(label, n, [&](std::size_t p) {
+        double sum[W] = {};
+        for (std::int32_t k = work.neighbour_offset[p]; k < work.neighbour_offset[p + 1]; ++k) {
+            f(p, static_cast<std::size_t>(work.neighbour[static_cast<std::size_t>(k)]), sum);
         }
         std::copy(sum, sum + W, out + W * p);
     });
@@ -57,16 +78,12 @@ void perParticleBondSum(const IncidenceView& inc, const RestStateView& bonds, co
 
 /// One ring of pooling (P2): out_i = in_i + Σ_j in_j over the intact bonded neighbours j, W columns.
 template <int W>
-void poolOnce(const IncidenceView& inc, const RestStateView& bonds, const double* in, double* out) {
-    parallelFor("plasticity.pool", inc.n, [&](std::size_t p) {
+void poolOnce(std::size_t n, const StrainWork& work, const double* in, double* out) {
+    parallelFor("plasticity.pool", n, [&](std::size_t p) {
         double sum[W];
         std::copy(in + W * p, in + W * (p + 1), sum);
-        for (std::int32_t k = inc.offset[p]; k < inc.offset[p + 1]; ++k) { // in incidence order: deterministic
-            const std::int32_t bond = inc.entry[k] >> 1;
-            if (!intact(bonds, bond)) {
-                continue;
-            }
-            const std::size_t other = static_cast<std::size_t>(inc.entry[k] & 1 ? bonds.i[bond] : bonds.j[bond]);
+        for (std::int32_t k = work.neighbour_offset[p]; k < work.neighbour_offset[p + 1]; ++k) { // incidence order
+            const auto other = static_cast<std::size_t>(work.neighbour[static_cast<std::size_t>(k)]);
             for (int c = 0; c < W; ++c) {
                 sum[c] += in[W * other + c];
             }
@@ -79,13 +96,13 @@ void poolOnce(const IncidenceView& inc, const RestStateView& bonds, const double
 /// rank the ghosts' rows are forwarded from their owners before each ring (their sums span bonds this rank
 /// does not hold).
 template <int W>
-void pool(const IncidenceView& inc, const RestStateView& bonds, int rings, std::vector<double>& data,
-          std::vector<double>& work, const GhostRows& ghosts) {
+void pool(std::size_t n, const StrainWork& strain, int rings, std::vector<double>& data, std::vector<double>& work,
+          const GhostRows& ghosts) {
     for (int ring = 0; ring < rings; ++ring) {
         if (ghosts.forward) {
             ghosts.forward(ghosts.context, data.data(), W);
         }
-        poolOnce<W>(inc, bonds, data.data(), work.data());
+        poolOnce<W>(n, strain, data.data(), work.data());
         data.swap(work);
     }
 }
@@ -100,7 +117,8 @@ void referenceInverse(const IncidenceView& inc, const RestStateView& bonds, cons
     work.a.resize(6 * rows);
     work.scratch.resize(9 * rows);
     work.inverse.resize(9 * inc.n);
-    perParticleBondSum<6>(inc, bonds, "plasticity.reference", work.a.data(),
+    buildNeighbours(inc, bonds, work);
+    perParticleBondSum<6>(inc.n, work, "plasticity.reference", work.a.data(),
                           [&](std::size_t p, std::size_t other, double* sum) {
                               const Vec3 dX = load3(initial, other) - load3(initial, p);
                               const Mat3 a = dX * dX.transpose();
@@ -108,7 +126,7 @@ void referenceInverse(const IncidenceView& inc, const RestStateView& bonds, cons
                               toVoigt(a, v);
                               for (int c = 0; c < 6; ++c) sum[c] += v[c];
                           });
-    pool<6>(inc, bonds, rings, work.a, work.scratch, ghosts);
+    pool<6>(inc.n, work, rings, work.a, work.scratch, ghosts);
     parallelFor("plasticity.reference", inc.n, [&](std::size_t p) {
         const Mat3 a = fromVoigt(work.a.data() + 6 * p);
         const double scale = a.trace();
@@ -129,7 +147,8 @@ void pooledDeformation(const IncidenceView& inc, const RestStateView& bonds, con
     const std::size_t rows = rowsOf(inc, ghosts);
     work.a.resize(9 * rows);
     work.scratch.resize(9 * rows);
-    perParticleBondSum<9>(inc, bonds, "plasticity.moments", work.a.data(),
+    buildNeighbours(inc, bonds, work); // a rank's ghost rows may be renumbered between calls: listed afresh
+    perParticleBondSum<9>(inc.n, work, "plasticity.moments", work.a.data(),
                           [&](std::size_t p, std::size_t other, double* sum) {
                               const Vec3 dX = load3(initial, other) - load3(initial, p);
                               const Vec3 dx = load3(current, other) - load3(current, p);
@@ -137,7 +156,7 @@ void pooledDeformation(const IncidenceView& inc, const RestStateView& bonds, con
                                   for (int c = 0; c < 3; ++c) sum[3 * r + c] += dx[r] * dX[c];
                               }
                           });
-    pool<9>(inc, bonds, rings, work.a, work.scratch, ghosts);
+    pool<9>(inc.n, work, rings, work.a, work.scratch, ghosts);
     parallelFor("plasticity.gradient", inc.n, [&](std::size_t p) {
         const Mat3 b = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.a.data() + 9 * p);
         const Mat3 ainv = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(work.inverse.data() + 9 * p);

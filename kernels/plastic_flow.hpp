@@ -111,6 +111,11 @@ struct StrainWork {
     std::vector<double> a;       ///< 9n buffer
     std::vector<double> scratch; ///< 9n buffer
     std::vector<double> released; ///< per bond: D_b of the last move, nJ (0 where the bond did not move)
+    /// The intact bonded neighbours of each particle in incidence order, CSR (neighbour_offset: n + 1), listed
+    /// once per call: the moments and the pooling rings then read a neighbour's index directly, not through its
+    /// bond (two dependent loads and the broken flag, the pooling's hottest wait).
+    std::vector<std::int32_t> neighbour_offset;
+    std::vector<std::int32_t> neighbour;
 };
 
 /// The ghost rows of a rank's share of a run (solver/halo): the per-particle arrays have `rows` rows, the
