@@ -332,7 +332,8 @@ void measureIndentation(const Scene& scene, const Model& model, const Effects& e
         m["densified_zone_depth_um"] = zone_depth;
         m["densified_zone_radius_um"] = zone_radius;
         const Bonds& b = model.bonds;
-        const ZoneShape shape = densifiedZoneShape(b.size(), b.i.data(), b.j.data(), b.rest_length.data(),
+        const std::vector<double> rest_length = b.restLengths();
+        const ZoneShape shape = densifiedZoneShape(b.size(), b.i.data(), b.j.data(), rest_length.data(),
                                                    b.section_radius.data(), b.slip.data(), p.initial_position.data(),
                                                    params.axis, ind.surface_level);
         m["densified_zone_shape"] = {

@@ -114,6 +114,7 @@ nlohmann::ordered_json runSummary(const Scene& scene, const SampleSource& source
     summary["dt_critical_basis"] =
         ts.stiffest_densified ? "bonds at their stiffest densified state (property evolution)" : "bonds as built";
     summary["safety_ratio"] = scene.time.safety_ratio;
+    summary["bond_reference_precision"] = std::string(nameOf(scene.precision.bond_reference));
     summary["duration_ns"] = scene.time.duration;
     summary["damping"] = {{"kind", effects.damping ? effects.damping->name() : "none"},
                           {"coefficient", effects.damping ? effects.damping->coefficient : 0.0}};

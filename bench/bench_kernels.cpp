@@ -61,6 +61,9 @@ using vitrum_bench::modelFor;
 constexpr double kBeamStreamBytes = 8 + 32 + 48 + 32 + 1 + 72;
 constexpr double kBeamGatherBytes = 2 * 56;
 constexpr double kBeamTouchedBytes = kBeamStreamBytes + kBeamGatherBytes; // 305 B
+/// What [precision] bond_reference = "float" takes off kBeamStreamBytes: rest length, axes and twist
+/// reference in 4-byte floats, (1 + 3 + 3 + 4) × 4 bytes fewer per bond.
+constexpr double kFloatReferenceSaving = (1 + 3 + 3 + 4) * 4;
 // Viscous variant: also velocity (24) and angular velocity (24), mass (8) and inertia (8) of both ends.
 constexpr double kViscousExtraGatherBytes = 2 * (24 + 24 + 8 + 8);
 // Amortised particle fetch per bond for the DRAM model: the particle fields the kernel reads, once per
@@ -373,6 +376,43 @@ void BM_FullStepDensified(benchmark::State& state) {
     state.counters["slipped_fraction"] =
         static_cast<double>(std::count_if(bm.model.bonds.slip.begin(), bm.model.bonds.slip.end(),
                                           [](double e) { return e > 0.0; })) / nb;
+    state.SetLabel(step.describe());
+}
+
+/// Design bench for the precision knob ([precision] bond_reference): the full step (variant densified 0:
+/// elasticity; 1: elasticity + densification with property evolution) with the bonds' reference data in
+/// double (float = 0) or float (1). Each combination its own model (the conversion cannot be undone), built
+/// and placed as a run does.
+void BM_FullStepPrecision(benchmark::State& state) {
+    const long n = state.range(0);
+    const bool single = state.range(1) != 0;
+    const bool densified = state.range(2) != 0;
+    static std::map<std::pair<long, bool>, std::unique_ptr<BenchModel>> cache;
+    std::unique_ptr<BenchModel>& slot = cache[{n, single}];
+    if (!slot) {
+        slot = vitrum_bench::makeModel(n, false);
+        if (single) {
+            slot->model.bonds.storeReferencesInFloat();
+        }
+        vitrum::placeModelArrays(slot->model);
+    }
+    BenchModel& bm = *slot;
+    vitrum::Scene scene = bm.scene;
+    if (densified) {
+        enableDensification(bm);
+        scene = bm.scene;
+        scene.effects = {vitrum::Effect::Elasticity, vitrum::Effect::Densification};
+    }
+    vitrum::Effects fx = buildEffects(scene, bm.model);
+    vitrum::Step step = vitrum::composeStep(bm.model, fx);
+    timeSteps(state, step, bm, fx);
+    const double nb = static_cast<double>(bm.model.bonds.size());
+    const double np = static_cast<double>(bm.model.particles.size());
+    const double beam = kBeamStreamBytes - (single ? kFloatReferenceSaving : 0.0) + (densified ? kDensifyBytes : 0.0);
+    const double dram = beam * nb + kBeamParticleBytes * np + kGatherDramPerBond * nb + kGatherPerParticle * np +
+                        kIntegrateBytes * np;
+    state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
+    reportCommon(state, bm, dram);
     state.SetLabel(step.describe());
 }
 
@@ -787,6 +827,11 @@ BENCHMARK(BM_BeamLanes)
     ->UseRealTime();
 BENCHMARK(BM_BondForces)
     ->ArgNames({"n", "fused", "densified"})
+    ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
+BENCHMARK(BM_FullStepPrecision)
+    ->ArgNames({"n", "float", "densified"})
     ->ArgsProduct({{1000, 10000, 100000, 1000000}, {0, 1}, {0, 1}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();

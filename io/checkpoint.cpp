@@ -47,10 +47,17 @@ static_assert(sizeof(ContactHistory) == fieldCount<ContactHistory>() * sizeof(st
 
 /// Per-bond or per-particle state of an optional effect (densification, fracture, plasticity): sized only when the effect is on, so it may be
 /// empty; it is then stored with 0 rows and read back empty.
+/// The bonds' reference data are stored in double or in float ([precision] bond_reference): one of the two
+/// sets is empty. The restart compares every field's length with the store the scene builds.
+bool referenceField(std::string_view name) {
+    return name == "rest_length" || name == "axis_i" || name == "axis_j" || name == "twist_ref" ||
+           name.ends_with("_f32");
+}
+
 bool effectField(std::string_view name) {
     return name == "slip" || name == "reference_strain" || name == "stress" || name == "released" ||
            name == "release_step" || name == "broken_bonds" || name == "plastic_strain" || name == "compaction" ||
-           name == "plastic_shear" || name == "plastic_work";
+           name == "plastic_shear" || name == "plastic_work" || referenceField(name);
 }
 
 // --- HDF5 plumbing -----------------------------------------------------------------------------------------
@@ -95,6 +102,8 @@ void silenceHdf5Errors() {
 template <class T> hid_t nativeType() {
     if constexpr (std::is_same_v<T, double>) {
         return H5T_NATIVE_DOUBLE;
+    } else if constexpr (std::is_same_v<T, float>) {
+        return H5T_NATIVE_FLOAT;
     } else if constexpr (std::is_same_v<T, std::int32_t>) {
         return H5T_NATIVE_INT32;
     } else if constexpr (std::is_same_v<T, std::int64_t>) {
@@ -110,6 +119,8 @@ template <class T> hid_t nativeType() {
 template <class T> constexpr std::string_view typeName() {
     if constexpr (std::is_same_v<T, double>) {
         return "float64";
+    } else if constexpr (std::is_same_v<T, float>) {
+        return "float32";
     } else if constexpr (std::is_same_v<T, std::int32_t>) {
         return "int32";
     } else if constexpr (std::is_same_v<T, std::int64_t>) {

@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -50,16 +51,19 @@ template <>
 struct Lanes<2> {
     using Real = double __attribute__((vector_size(16)));
     using Mask = std::int64_t __attribute__((vector_size(16)));
+    using Floats = float __attribute__((vector_size(8))); ///< W floats (float reference data)
 };
 template <>
 struct Lanes<4> {
     using Real = double __attribute__((vector_size(32)));
     using Mask = std::int64_t __attribute__((vector_size(32)));
+    using Floats = float __attribute__((vector_size(16))); ///< W floats (float reference data)
 };
 template <>
 struct Lanes<8> {
     using Real = double __attribute__((vector_size(64)));
     using Mask = std::int64_t __attribute__((vector_size(64)));
+    using Floats = float __attribute__((vector_size(32))); ///< W floats (float reference data)
 };
 
 template <int W>
@@ -110,23 +114,23 @@ inline Block<W> blockOf(const BondView& b, std::size_t m) noexcept {
 }
 // Each lane vector is built in one brace initialisation from its W scalars, which the compiler assembles in
 // registers (element-by-element writes to a vector would go through the stack).
-template <int W, std::size_t... L>
-[[gnu::always_inline]] inline typename Lanes<W>::Real gatherStrided(const double* a, const std::size_t (&idx)[W], std::size_t stride,
+template <int W, class T, std::size_t... L>
+[[gnu::always_inline]] inline typename Lanes<W>::Real gatherStrided(const T* a, const std::size_t (&idx)[W], std::size_t stride,
                                              std::size_t offset, std::index_sequence<L...>) noexcept {
     return typename Lanes<W>::Real{a[stride * idx[L] + offset]...};
 }
-template <int W>
-[[gnu::always_inline]] inline typename Lanes<W>::Real gather1(const double* a, const std::size_t (&idx)[W]) noexcept {
+template <int W, class T>
+[[gnu::always_inline]] inline typename Lanes<W>::Real gather1(const T* a, const std::size_t (&idx)[W]) noexcept {
     return gatherStrided<W>(a, idx, 1, 0, std::make_index_sequence<W>{});
 }
-template <int W>
-[[gnu::always_inline]] inline Vec3L<W> gather3(const double* a, const std::size_t (&idx)[W]) noexcept {
+template <int W, class T>
+[[gnu::always_inline]] inline Vec3L<W> gather3(const T* a, const std::size_t (&idx)[W]) noexcept {
     constexpr auto lanes = std::make_index_sequence<W>{};
     return {gatherStrided<W>(a, idx, 3, 0, lanes), gatherStrided<W>(a, idx, 3, 1, lanes),
             gatherStrided<W>(a, idx, 3, 2, lanes)};
 }
-template <int W>
-[[gnu::always_inline]] inline QuatL<W> gather4(const double* a, const std::size_t (&idx)[W]) noexcept {
+template <int W, class T>
+[[gnu::always_inline]] inline QuatL<W> gather4(const T* a, const std::size_t (&idx)[W]) noexcept {
     constexpr auto lanes = std::make_index_sequence<W>{};
     return {gatherStrided<W>(a, idx, 4, 0, lanes), gatherStrided<W>(a, idx, 4, 1, lanes),
             gatherStrided<W>(a, idx, 4, 2, lanes), gatherStrided<W>(a, idx, 4, 3, lanes)};
@@ -142,6 +146,13 @@ template <int W>
     typename Lanes<W>::Real v;
     __builtin_memcpy(&v, a, sizeof v);
     return v;
+}
+/// W floats widened to W double lanes (float reference data): exact, so the lanes hold what load3 gives.
+template <int W>
+[[gnu::always_inline]] inline typename Lanes<W>::Real loadRun(const float* a) noexcept {
+    typename Lanes<W>::Floats v;
+    __builtin_memcpy(&v, a, sizeof v);
+    return __builtin_convertvector(v, typename Lanes<W>::Real);
 }
 template <int W>
 [[gnu::always_inline]] inline void storeRun(double* a, const typename Lanes<W>::Real& v) noexcept {
@@ -168,8 +179,8 @@ constexpr std::int64_t join3Stage2(int v, int m) {
     const int e = v * W + m;
     return e % 3 == 2 ? W + e / 3 : m;
 }
-template <int W, std::size_t... L>
-[[gnu::always_inline]] inline Vec3L<W> splitRun3(const double* a, std::index_sequence<L...>) noexcept {
+template <int W, class T, std::size_t... L>
+[[gnu::always_inline]] inline Vec3L<W> splitRun3(const T* a, std::index_sequence<L...>) noexcept {
     using Real = typename Lanes<W>::Real;
     using Mask = typename Lanes<W>::Mask;
     const Real v0 = loadRun<W>(a);
@@ -218,8 +229,8 @@ template <int W>
 }
 /// A run of W quaternions (4W contiguous doubles): even/odd elements give (w y) and (x z) pairs per half,
 /// their even/odd elements w, y and x, z.
-template <int W, std::size_t... L>
-[[gnu::always_inline]] inline QuatL<W> splitRun4(const double* a, std::index_sequence<L...>) noexcept {
+template <int W, class T, std::size_t... L>
+[[gnu::always_inline]] inline QuatL<W> splitRun4(const T* a, std::index_sequence<L...>) noexcept {
     using Mask = typename Lanes<W>::Mask;
     constexpr Mask even{static_cast<std::int64_t>(2 * L)...};
     constexpr Mask odd{static_cast<std::int64_t>(2 * L + 1)...};
@@ -273,17 +284,17 @@ template <int W>
 }
 
 /// Per-bond fields of a block: contiguous runs for a full block, per-lane gathers for the partial last one.
-template <int W>
-[[gnu::always_inline]] inline typename Lanes<W>::Real bond1(const double* a, const Block<W>& blk) noexcept {
+template <int W, class T>
+[[gnu::always_inline]] inline typename Lanes<W>::Real bond1(const T* a, const Block<W>& blk) noexcept {
     return blk.count == W ? loadRun<W>(a + blk.k[0]) : gather1<W>(a, blk.k);
 }
-template <int W>
-[[gnu::always_inline]] inline Vec3L<W> bond3(const double* a, const Block<W>& blk) noexcept {
+template <int W, class T>
+[[gnu::always_inline]] inline Vec3L<W> bond3(const T* a, const Block<W>& blk) noexcept {
     return blk.count == W ? splitRun3<W>(a + 3 * blk.k[0], std::make_index_sequence<W>{})
                           : gather3<W>(a, blk.k);
 }
-template <int W>
-[[gnu::always_inline]] inline QuatL<W> bond4(const double* a, const Block<W>& blk) noexcept {
+template <int W, class T>
+[[gnu::always_inline]] inline QuatL<W> bond4(const T* a, const Block<W>& blk) noexcept {
     return blk.count == W ? splitRun4<W>(a + 4 * blk.k[0], std::make_index_sequence<W>{})
                           : gather4<W>(a, blk.k);
 }
@@ -309,20 +320,32 @@ inline BeamKinematics laneOf(const BeamKinematicsT<Real>& k, int l) noexcept {
     return {laneOf(k.axis, l), k.length[l], k.stretch[l], laneOf(k.theta_i, l), laneOf(k.theta_j, l), k.twist[l]};
 }
 
+/// The reference data of a view in its storage precision S (double or float).
+template <class S>
+[[gnu::always_inline]] inline BondReference<const S> referenceOf(const BondView& b) noexcept {
+    if constexpr (std::is_same_v<S, float>) {
+        return b.reference_f32;
+    } else {
+        return {b.rest_length, b.axis_i, b.axis_j, b.twist_ref};
+    }
+}
+
 /// beamKinematics (beam.hpp) of a block's W bonds, the series branch in every lane; `in_range` is −1 (all
 /// bits) in a lane whose three angles lie in the series range, elsewhere the lane's values are not used.
-template <int W>
-[[gnu::always_inline]] inline KinematicsL<W> kinematicsL(const BondView& b, const ParticleView& p, const Block<W>& blk) noexcept {
+/// `ref`: the reference data in their storage precision, widened exactly.
+template <int W, class S>
+[[gnu::always_inline]] inline KinematicsL<W> kinematicsL(const BondView& b, const BondReference<const S>& r, const ParticleView& p, const Block<W>& blk) noexcept {
     // Gathered into named values first, in this order: as call arguments GCC evaluates them right to left,
     // which keeps more of them live at once (measured: 4 % more instructions in the W = 4 block).
     const Vec3L<W> xi = gather3<W>(p.position, blk.i);
     const Vec3L<W> xj = gather3<W>(p.position, blk.j);
     const QuatL<W> qi = particleQuats<W>(p.orientation, blk.i);
     const QuatL<W> qj = particleQuats<W>(p.orientation, blk.j);
-    const Vec3L<W> ai = bond3<W>(b.axis_i, blk);
-    const Vec3L<W> aj = bond3<W>(b.axis_j, blk);
-    const QuatL<W> ref = bond4<W>(b.twist_ref, blk);
-    const typename Lanes<W>::Real rest_length = bond1<W>(b.rest_length, blk);
+    const Vec3L<W> ai = bond3<W>(r.axis_i, blk);
+    const Vec3L<W> aj = bond3<W>(r.axis_j, blk);
+    const QuatL<W> ref = bond4<W>(r.twist_ref, blk);
+    const typename Lanes<W>::Real rest_length = bond1<W>(r.rest_length, blk);
+    (void)b;
     return law::beamKinematics(xi, xj, qi, qj, ai, aj, ref, rest_length);
 }
 
@@ -331,12 +354,11 @@ inline BeamKinematics kinematicsOf(const BondView& b, const ParticleView& p, std
     const std::size_t i = static_cast<std::size_t>(b.i[k]);
     const std::size_t j = static_cast<std::size_t>(b.j[k]);
     return beamKinematics(load3(p.position, i), load3(p.position, j), loadQuat(p.orientation, i),
-                          loadQuat(p.orientation, j), load3(b.axis_i, k), load3(b.axis_j, k),
-                          loadQuat(b.twist_ref, k), b.rest_length[k]);
+                          loadQuat(p.orientation, j), b.axisI(k), b.axisJ(k), b.twistRef(k), b.restLength(k));
 }
 
 inline EulerBernoulliBeam lawOf(const BondView& b, std::size_t k) {
-    return EulerBernoulliBeam::make(b.young[k], b.shear[k], b.section_radius[k], b.rest_length[k]);
+    return EulerBernoulliBeam::make(b.young[k], b.shear[k], b.section_radius[k], b.restLength(k));
 }
 
 /// Densification of bond k (kernels/densification.hpp): the slider's return mapping on the axial strain,
@@ -346,7 +368,7 @@ inline EulerBernoulliBeam lawOf(const BondView& b, std::size_t k) {
 template <bool Evolve>
 EulerBernoulliBeam densify(const DensificationLaw& law, const DensificationView& d, const ParticleView& p,
                            const BondView& b, std::size_t k, BeamKinematics& kin) {
-    const double l0 = b.rest_length[k];
+    const double l0 = b.restLength(k);
     const double strain = kin.stretch / l0;
     const SliderState old{d.slip[k], d.reference_strain[k]};
     double section_factor = 1.0; // S/S₀: the slider works with the nominal stress N/S₀
@@ -383,12 +405,11 @@ EulerBernoulliBeam densify(const DensificationLaw& law, const DensificationView&
                 const double angle = theta.norm();
                 return angle > 0.0 ? Vec3(Eigen::AngleAxisd(angle, theta / angle) * kin.axis) : kin.axis;
             };
-            store3(d.axis_i, k, qi.conjugate() * normalOf(kin.theta_i));
-            store3(d.axis_j, k, qj.conjugate() * normalOf(kin.theta_j));
             const double twist_change = (ratio.bending - 1.0) * kin.twist;
-            kin.twist += twist_change;
             const Quat turn(Eigen::AngleAxisd(twist_change, kin.axis));
-            storeQuat(d.twist_ref, k, (qj.conjugate() * turn * qj * loadQuat(d.twist_ref, k)).normalized());
+            d.setReferences(k, qi.conjugate() * normalOf(kin.theta_i), qj.conjugate() * normalOf(kin.theta_j),
+                            (qj.conjugate() * turn * qj * d.twistRef(k)).normalized());
+            kin.twist += twist_change;
         }
     }
     d.slip[k] = next.slip;
@@ -473,14 +494,15 @@ template <int W>
 // ---- the lane pass ------------------------------------------------------------------------------------------
 /// Bonds in fixed blocks (W m … W m + W − 1): kinematics, slider check, beam law, dashpots in lanes; a bond
 /// that is broken, out of the series range or slipping takes the scalar path (see the file header).
-template <int W, bool Viscous, int Densify>
+template <int W, bool Viscous, int Densify, class S>
 inline void beamBlock(const BondView& b, const ParticleView& p, const detail::BeamPass& pass, std::size_t m) {
     using Real = typename Lanes<W>::Real;
     using Mask = typename Lanes<W>::Mask;
     const Block<W> blk = blockOf<W>(b, m);
+    const BondReference<const S> ref = referenceOf<S>(b);
     prefetchEnds<W>(b, p, m + kPrefetchBonds / W);
-    KinematicsL<W> kin = kinematicsL<W>(b, p, blk);
-    const Real l0 = bond1<W>(b.rest_length, blk);
+    KinematicsL<W> kin = kinematicsL<W>(b, ref, p, blk);
+    const Real l0 = bond1<W>(ref.rest_length, blk);
     const Real total_stretch = kin.stretch; // l − l₀, what a slipping lane's scalar path starts from
     Mask slipping{};
     Real young, shear, radius;
@@ -565,7 +587,7 @@ inline constexpr std::size_t kBondTile = 2048;
 /// the range whose bonds (k_begin, k_end] hold ready[p], so each is gathered once; each sum is
 /// gatherParticle's, in CSR order, and the loads are the block pass's: the result is bit-identical to the
 /// separate passes and independent of the thread count and of the tile size.
-template <int W, bool Viscous, int Densify>
+template <int W, bool Viscous, int Densify, class S>
 void beamGatherLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
     const IncidenceView& inc = *pass.incidence;
     const char* label = Densify ? "bonds.beam_loads+densification+gather" : "bonds.beam_loads+gather";
@@ -600,7 +622,7 @@ void beamGatherLanes(const BondView& b, const ParticleView& p, const detail::Bea
             const std::size_t k0 = t * kBondTile;
             const std::size_t k1 = std::min(k0 + kBondTile, b.n);
             for (std::size_t m = k0 / W; m < (k1 + W - 1) / W; ++m) {
-                beamBlock<W, Viscous, Densify>(b, p, pass, m);
+                beamBlock<W, Viscous, Densify, S>(b, p, pass, m);
             }
             if (pass.weight != nullptr) { // weightBondLoads on the tile
                 for (std::size_t k = k0; k < k1; ++k) {
@@ -623,15 +645,24 @@ void beamGatherLanes(const BondView& b, const ParticleView& p, const detail::Bea
                 [&](std::size_t e) { gatherParticle(inc, b, p, static_cast<std::size_t>(rest[e])); });
 }
 
-template <int W, bool Viscous, int Densify>
-void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
+template <int W, bool Viscous, int Densify, class S>
+void beamLoadsLanesOf(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
     if (pass.incidence != nullptr) {
-        beamGatherLanes<W, Viscous, Densify>(b, p, pass);
+        beamGatherLanes<W, Viscous, Densify, S>(b, p, pass);
         return;
     }
     const char* label = Densify ? "bonds.beam_loads+densification" : "bonds.beam_loads";
     parallelFor(label, (b.n + W - 1) / W,
-                [&](std::size_t m) { beamBlock<W, Viscous, Densify>(b, p, pass, m); });
+                [&](std::size_t m) { beamBlock<W, Viscous, Densify, S>(b, p, pass, m); });
+}
+/// The pass in the storage precision of the view's reference data.
+template <int W, bool Viscous, int Densify>
+void beamLoadsLanes(const BondView& b, const ParticleView& p, const detail::BeamPass& pass) {
+    if (b.floatReference()) {
+        beamLoadsLanesOf<W, Viscous, Densify, float>(b, p, pass);
+    } else {
+        beamLoadsLanesOf<W, Viscous, Densify, double>(b, p, pass);
+    }
 }
 
 /// The pass of `pass` in W lanes (one instantiation per variant).

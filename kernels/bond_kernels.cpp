@@ -73,8 +73,8 @@ double beamStrainEnergy(const BondView& b, const ParticleView& p, const Densific
     return parallelReduceSegments("bonds.strain_energy", bounds, 0.0, [&](std::size_t k, double& acc) {
         if (!b.broken[k]) {
             BeamKinematics kin = kinematicsOf(b, p, k);
-            kin.stretch -= d.reference_strain[k] * b.rest_length[k];
-            acc += EulerBernoulliBeam::make(d.young[k], d.shear[k], d.section_radius[k], b.rest_length[k])
+            kin.stretch -= d.reference_strain[k] * b.restLength(k);
+            acc += EulerBernoulliBeam::make(d.young[k], d.shear[k], d.section_radius[k], b.restLength(k))
                        .energy(kin);
         }
     }, span);

@@ -36,6 +36,7 @@
 #include <cstddef>
 
 #include "kernels/law.hpp"
+#include "kernels/views.hpp"
 
 namespace vitrum {
 
@@ -196,9 +197,26 @@ struct DensificationView {
     double* young = nullptr;            ///< n, E_μ, GPa
     double* shear = nullptr;            ///< n, G_μ, GPa
     double* section_radius = nullptr;   ///< n, µm
-    double* axis_i = nullptr;           ///< 3n
+    double* axis_i = nullptr;           ///< 3n (null with float reference data: reference_f32)
     double* axis_j = nullptr;           ///< 3n
     double* twist_ref = nullptr;        ///< 4n
+    BondReference<float> reference_f32; ///< [precision] bond_reference = "float": the references stored in float
+
+    Quat twistRef(std::size_t k) const {
+        return twist_ref != nullptr ? loadQuat(twist_ref, k) : loadQuat(reference_f32.twist_ref, k);
+    }
+    /// Rewrites bond k's references (in the storage's precision: rounded to float there).
+    void setReferences(std::size_t k, const Vec3& ai, const Vec3& aj, const Quat& twist) const {
+        if (axis_i != nullptr) {
+            store3(axis_i, k, ai);
+            store3(axis_j, k, aj);
+            storeQuat(twist_ref, k, twist);
+        } else {
+            store3(reference_f32.axis_i, k, ai);
+            store3(reference_f32.axis_j, k, aj);
+            storeQuat(reference_f32.twist_ref, k, twist);
+        }
+    }
 };
 
 } // namespace vitrum

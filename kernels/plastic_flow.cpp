@@ -229,17 +229,16 @@ double moveRestStates(const BondView& beams, const ParticleView& particles, cons
         // (P6) Δε_i is pushed forward by the whole F; the rest state lives in the unloaded configuration,
         // whose chord is l₀, not l: the bond takes (l/l₀)² Δε_b, the exact rest-length change of an affine
         // field to first order (without it a bond compressed elastically by 8 % compacted 17 % too much).
-        const double stretch = d.squaredNorm() / (b.rest_length[k] * b.rest_length[k]);
+        const double l0 = b.restLength(k);
+        const double stretch = d.squaredNorm() / (l0 * l0);
         for (double& c : de) {
             c *= stretch;
         }
         const double before = bondStrainEnergy(beams, particles, k);
-        const BondRestState old{b.rest_length[k], load3(b.axis_i, k), load3(b.axis_j, k)};
+        const BondRestState old{l0, b.axisI(k), b.axisJ(k)};
         const BondRestState now = plasticRestState(old, de, loadQuat(particles.orientation, i),
                                                    loadQuat(particles.orientation, j), d.normalized()); // (S2)
-        b.rest_length[k] = now.rest_length;
-        store3(b.axis_i, k, now.axis_i);
-        store3(b.axis_j, k, now.axis_j);
+        b.set(k, now.rest_length, now.axis_i, now.axis_j);
         const double released = before - bondStrainEnergy(beams, particles, k); // D_b
         work.released[k] = released;
         acc += released;

@@ -80,9 +80,28 @@ struct RestStateView {
     const std::int32_t* i = nullptr;
     const std::int32_t* j = nullptr;
     const std::uint8_t* broken = nullptr; ///< n, or null (no fracture)
-    double* rest_length = nullptr;        ///< l₀, µm
+    double* rest_length = nullptr;        ///< l₀, µm (null with float reference data: reference_f32)
     double* axis_i = nullptr;             ///< 3n, section normal of end i, i's body frame
     double* axis_j = nullptr;             ///< 3n
+    BondReference<float> reference_f32;   ///< [precision] bond_reference = "float": the same in float
+
+    double restLength(std::size_t k) const {
+        return rest_length != nullptr ? rest_length[k] : static_cast<double>(reference_f32.rest_length[k]);
+    }
+    Vec3 axisI(std::size_t k) const { return axis_i != nullptr ? load3(axis_i, k) : load3(reference_f32.axis_i, k); }
+    Vec3 axisJ(std::size_t k) const { return axis_j != nullptr ? load3(axis_j, k) : load3(reference_f32.axis_j, k); }
+    /// Rewrites bond k's rest length and section normals (rounded to float with float reference data).
+    void set(std::size_t k, double length, const Vec3& ai, const Vec3& aj) const {
+        if (rest_length != nullptr) {
+            rest_length[k] = length;
+            store3(axis_i, k, ai);
+            store3(axis_j, k, aj);
+        } else {
+            reference_f32.rest_length[k] = static_cast<float>(length);
+            store3(reference_f32.axis_i, k, ai);
+            store3(reference_f32.axis_j, k, aj);
+        }
+    }
 };
 
 /// The law and elastic metric of the return.

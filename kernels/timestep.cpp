@@ -36,7 +36,7 @@ CriticalTimeStep criticalTimeStep(const IncidenceView& inc, const BondView& b, c
             const std::size_t other = static_cast<std::size_t>((inc.entry[e] & 1) ? b.i[k] : b.j[k]);
             const double mj = p.mass[other];
             const double jj = p.inertia[other];
-            const double l = b.rest_length[k];
+            const double l = b.restLength(k);
             const EulerBernoulliBeam law = EulerBernoulliBeam::make(b.young[k], b.shear[k], b.section_radius[k], l);
             const double ei_over_l = 0.5 * law.bending_stiffness; // EI/l
             const double k_trans = 12.0 * ei_over_l / (l * l);    // 12EI/l³

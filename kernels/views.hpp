@@ -30,6 +30,21 @@ inline void storeQuat(double* a, std::size_t i, const Quat& q) {
     a[4 * i + 2] = q.y();
     a[4 * i + 3] = q.z();
 }
+// The same for data stored in float (the bonds' reference data with [precision] bond_reference = "float"):
+// widened exactly on load, rounded to nearest on store; the arithmetic stays double.
+inline Vec3 load3(const float* a, std::size_t i) { return Vec3(a[3 * i], a[3 * i + 1], a[3 * i + 2]); }
+inline void store3(float* a, std::size_t i, const Vec3& v) {
+    a[3 * i] = static_cast<float>(v.x());
+    a[3 * i + 1] = static_cast<float>(v.y());
+    a[3 * i + 2] = static_cast<float>(v.z());
+}
+inline Quat loadQuat(const float* a, std::size_t i) { return Quat(a[4 * i], a[4 * i + 1], a[4 * i + 2], a[4 * i + 3]); }
+inline void storeQuat(float* a, std::size_t i, const Quat& q) {
+    a[4 * i] = static_cast<float>(q.w());
+    a[4 * i + 1] = static_cast<float>(q.x());
+    a[4 * i + 2] = static_cast<float>(q.y());
+    a[4 * i + 3] = static_cast<float>(q.z());
+}
 
 /// Per-particle flag bits.
 enum ParticleFlag : std::uint32_t {
@@ -52,6 +67,17 @@ struct ParticleView {
     const std::uint32_t* flags = nullptr;
 };
 
+/// The bonds' reference data (rest length, section normals, twist reference) as stored: in double (the
+/// default) or in float ([precision] bond_reference = "float"; the arithmetic on them stays double). Exactly one
+/// of the two pointer sets is non-null in a view with bonds.
+template <class S>
+struct BondReference {
+    S* rest_length = nullptr; ///< n, l₀, µm
+    S* axis_i = nullptr;      ///< 3n, section normal of end i in i's body frame
+    S* axis_j = nullptr;      ///< 3n, section normal of end j in j's body frame
+    S* twist_ref = nullptr;   ///< 4n, quaternion conj(q_j⁰)·q_i⁰ at creation
+};
+
 /// Bond fields the beam kernel reads (geometry, material, reference orientation) and writes (loads).
 struct BondView {
     std::size_t n = 0;
@@ -68,6 +94,19 @@ struct BondView {
     double* force = nullptr;               ///< 3n out: load on end i (end j gets its negative), mN
     double* torque_i = nullptr;            ///< 3n out: torque on end i, mN·µm
     double* torque_j = nullptr;            ///< 3n out: torque on end j, mN·µm
+    /// The reference data in float ([precision] bond_reference = "float"): then rest_length, axis_i, axis_j
+    /// and twist_ref above are null and these point at the data. The accessors below read either.
+    BondReference<const float> reference_f32;
+
+    bool floatReference() const { return reference_f32.rest_length != nullptr; }
+    double restLength(std::size_t k) const {
+        return rest_length != nullptr ? rest_length[k] : static_cast<double>(reference_f32.rest_length[k]);
+    }
+    Vec3 axisI(std::size_t k) const { return axis_i != nullptr ? load3(axis_i, k) : load3(reference_f32.axis_i, k); }
+    Vec3 axisJ(std::size_t k) const { return axis_j != nullptr ? load3(axis_j, k) : load3(reference_f32.axis_j, k); }
+    Quat twistRef(std::size_t k) const {
+        return twist_ref != nullptr ? loadQuat(twist_ref, k) : loadQuat(reference_f32.twist_ref, k);
+    }
 };
 
 /// Particle → bond incidence in CSR form: the entries of particle p are entry[offset[p] .. offset[p+1]),

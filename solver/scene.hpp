@@ -408,6 +408,21 @@ struct CouplingParams {
     bool operator==(const CouplingParams&) const = default;
 };
 
+/// Storage precision of data (the arithmetic is double in every case).
+enum class Precision { Double, Float };
+template <> struct EnumNames<Precision> {
+    static constexpr std::array<std::string_view, 2> names = {"double", "float"};
+};
+
+/// [precision]: what is stored in reduced precision, an accuracy knob measured in bench/accuracy-cost.
+struct PrecisionParams {
+    /// The bonds' reference data (rest lengths, section normals, twist references): float halves their bytes
+    /// (88 → 44 per bond) and rounds them once at creation (relative 6·10⁻⁸) and at every rewrite.
+    Precision bond_reference = Precision::Double;
+
+    bool operator==(const PrecisionParams&) const = default;
+};
+
 struct TimeParams {
     double safety_ratio = 0.1; ///< Δt = ratio × Δt_crit (kernels/timestep.hpp)
     double duration = 1.0;     ///< ns of simulated time (with stages: the longest the stages may take)
@@ -461,6 +476,7 @@ struct Scene {
     std::vector<StageParams> stages;  ///< [[stage]], effect indenter
     CouplingParams coupling;          ///< effect coupling
     TimeParams time;
+    PrecisionParams precision;        ///< [precision]
     MeasureParams measure;
     OutputParams output;
     std::string source_path; ///< the scene file it came from

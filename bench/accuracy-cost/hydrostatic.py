@@ -24,6 +24,8 @@ ratio 0.15 and the 12 pressures 4..30 GPa of the calibration are the defaults):
          (about 40 min of CPU, most of it the 10 000-particle sweep)
   paper  default 10 000 particles (the calibration's): particles 20 000 (the finest), 10 000, 5 000, 2 000,
          at the driver's default time-step ratio 0.1 (about 1 h of CPU)
+  precision  the 10 000-particle (ratio 0.1) and 2 000-particle (0.15) sweeps with the bonds' reference data in
+         double and in float ([precision] bond_reference); quick and paper hold the float sweep at their default
   smoke  300- and 250-particle sweeps on 3 pressures, protocol x0.2 (a ctest: the study runs end to end)
 
 A configuration that trips the watchdog (vitrum's numerical-instability stop) is a result, not an error: the
@@ -58,11 +60,11 @@ FINE = list(range(4, 31))
 BASE_PROTOCOL = (10.0, 5.0, 5.0, 5.0)  # ramp, hold, release, rest (ns)
 
 
-def config(axis, value, particles, ratio=0.15, scale=1.0, pressures=GRID):
+def config(axis, value, particles, ratio=0.15, scale=1.0, pressures=GRID, precision="double"):
     # The folder names every setting, so that the presets share a configuration they have in common.
-    label = f"N{particles}-ratio{ratio:g}-time{scale:g}-p{len(pressures)}"
+    label = f"N{particles}-ratio{ratio:g}-time{scale:g}-p{len(pressures)}" + ("-f32" if precision == "float" else "")
     return {"axis": axis, "value": str(value), "label": label, "particles": particles, "ratio": ratio,
-            "protocol": tuple(scale * t for t in BASE_PROTOCOL), "pressures": pressures}
+            "protocol": tuple(scale * t for t in BASE_PROTOCOL), "pressures": pressures, "precision": precision}
 
 
 def preset(name):
@@ -72,16 +74,25 @@ def preset(name):
         runs += [config("safety_ratio", r, 2000, ratio=r) for r in (0.1, 0.3)]
         runs += [config("protocol_time", s, 2000, scale=s) for s in (0.5, 2.0)]
         runs += [config("pressure_points", len(g), 2000, pressures=g) for g in (COARSE, FINE)]
+        runs += [config("bond_reference", "float", 2000, precision="float")]
         return runs, runs[2]["label"], runs[0]["label"]
     if name == "paper":
         # At the driver's default ratio 0.1: at 0.15, the 20 000-particle sweep trips the watchdog at 18 GPa (a
         # 3-bond particle spinning up under the pressure), as a fresh 10 000-particle packing does at 22 GPa.
         runs = [config("particles", n, n, ratio=0.1) for n in (20000, 10000, 5000, 2000)]
+        runs += [config("bond_reference", "float", 10000, ratio=0.1, precision="float")]
         return runs, runs[1]["label"], runs[0]["label"]
+    if name == "precision":
+        # The bonds' reference data in double and in float ([precision] bond_reference), at the calibration's
+        # 10 000 particles and ratio 0.1, and at the quick preset's 2 000 and 0.15.
+        runs = [config("particles", 10000, 10000, ratio=0.1),
+                config("bond_reference", "float", 10000, ratio=0.1, precision="float"),
+                config("particles", 2000, 2000), config("bond_reference", "float", 2000, precision="float")]
+        return runs, runs[0]["label"], runs[0]["label"]
     if name == "smoke":
         runs = [config("particles", n, n, scale=0.2, pressures=[6, 12, 20]) for n in (300, 250)]
         return runs, runs[1]["label"], runs[0]["label"]
-    raise SystemExit(f"unknown preset '{name}' (quick, paper, smoke)")
+    raise SystemExit(f"unknown preset '{name}' (quick, paper, precision, smoke)")
 
 
 def calibrated():
@@ -116,6 +127,8 @@ def run_one(binary, cfg, folder, start, seed):
            "--tolerances", "99,99,99", "--threads", "1", "--pressures", ",".join(str(p) for p in cfg["pressures"]),
            "--ramp", str(ramp), "--hold", str(hold), "--release", str(release), "--rest", str(rest),
            "--set", f"time.safety_ratio={cfg['ratio']}", "--out", folder, "--output", scratch]
+    if cfg.get("precision", "double") != "double":
+        cmd += ["--set", f'precision.bond_reference="{cfg["precision"]}"']
     rc, cost = run_measured(cmd, os.path.join(folder, "log.txt"), ROOT)
     cost["exit"] = rc
     if rc != 0:
@@ -230,7 +243,8 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), sharex=True)
-        markers = {"particles": "o", "safety_ratio": "s", "protocol_time": "^", "pressure_points": "D"}
+        markers = {"particles": "o", "safety_ratio": "s", "protocol_time": "^", "pressure_points": "D",
+                   "bond_reference": "P"}
         for ax, key, what in ((axes[0], "error_ji", "Ji's envelope"),
                               (axes[1], "error_finest", f"the finest run ({finest['particles']} particles)")):
             for axis, mk in markers.items():

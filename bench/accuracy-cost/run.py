@@ -22,13 +22,17 @@ Presets:
          with --jobs 2 on the 2-core development machine (the coupled run is the critical path).
   smoke  three tiny runs (a ctest): checks that the study runs end to end and writes its three outputs.
 
+  precision  examples/paper/vickers-0.1N.toml at 100 000 and 20 000 particles, each with the bonds' reference
+         data in double and in float ([precision] bond_reference); the quick and paper presets hold the float
+         run at their base count too.
+
 Every run uses --threads 1 (results do not depend on the thread count; one thread makes the CPU time a
 clean cost). --jobs N runs N of them at once (the study is embarrassingly parallel); each run's CPU time is
 then its own (wait4), but runs sharing the memory bus cost more than alone (measured: 1.37x for the
 20 000-particle run of the paper preset on the 2-core development VM, README), so compare costs within one
 --jobs setting (the table's title and cost.json record it). Runs whose summary.json
-exists in the output folder are reused, so an interrupted study continues where it stopped. Double precision
-throughout: vitrum has no mixed-precision path, so that axis of the issue does not apply.
+exists in the output folder are reused, so an interrupted study continues where it stopped. The arithmetic is
+double throughout; the storage of the bonds' reference data is the axis bond_reference (double or float).
 
   /usr/bin/python3 bench/accuracy-cost/run.py --preset quick --out out/accuracy-cost-quick
   /usr/bin/python3 bench/accuracy-cost/run.py --preset paper --out out/accuracy-cost-paper --jobs 2
@@ -73,6 +77,10 @@ def packing_file(n):
     return ["--set", f'sample.particles={n}', "--set", f'sample.file="packings/hemisphere-12um-{n}-seed1.h5"']
 
 
+# [precision] bond_reference = "float": the bonds' rest lengths, section normals and twist references in float.
+FLOAT_REFERENCE = ["--set", 'precision.bond_reference="float"']
+
+
 def speed_set(v):
     """Loading and unloading speed v in m/s (the scenes' stages are in um/ns)."""
     s = v / 1000.0
@@ -90,6 +98,7 @@ def preset_runs(name):
             runs.append(Run("speed_m_per_s", str(v), scene, speed_set(v), base="8000"))
         for a in (0.15, 0.6):
             runs.append(Run("cundall", str(a), scene, ["--set", f"damping.coefficient={a}"], base="8000"))
+        runs.append(Run("bond_reference", "float", scene, FLOAT_REFERENCE, base="8000"))
         return runs, "8000", {"safety_ratio": 0.15, "speed_m_per_s": 10.0, "cundall": 0.3}
     if name == "paper":
         scene = "examples/paper/vickers-0.1N.toml"
@@ -103,6 +112,17 @@ def preset_runs(name):
             runs.append(Run("speed_m_per_s", str(v), scene, at + speed_set(v), base="20000"))
         for a in (0.15, 0.6):
             runs.append(Run("cundall", str(a), scene, at + ["--set", f"damping.coefficient={a}"], base="20000"))
+        runs.append(Run("bond_reference", "float", scene, at + FLOAT_REFERENCE, base="20000"))
+        return runs, "100000", {"safety_ratio": 0.15, "speed_m_per_s": 20.0, "cundall": 0.3}
+    if name == "precision":
+        # The storage precision of the bonds' reference data on the paper's scene, at 20 000 and 100 000.
+        scene = "examples/paper/vickers-0.1N.toml"
+        runs = []
+        for n in (100000, 20000):
+            runs.append(Run("particles", str(n), scene, packing_file(n)))
+            runs.append(Run("bond_reference", "float", scene, packing_file(n) + FLOAT_REFERENCE, base=str(n)))
+        for r in runs[1::2]:
+            r.value = f"float-{r.base}"  # one label per count
         return runs, "100000", {"safety_ratio": 0.15, "speed_m_per_s": 20.0, "cundall": 0.3}
     if name == "smoke":
         scene = "examples/paper/quickstart.toml"
@@ -114,7 +134,7 @@ def preset_runs(name):
                 Run("safety_ratio", "0.3", scene, ["--set", "sample.particles=800", "--set", "time.safety_ratio=0.3"]
                     + tiny, base="800")]
         return runs, "800", {"safety_ratio": 0.15, "speed_m_per_s": 50.0, "cundall": 0.3}
-    raise SystemExit(f"unknown preset '{name}' (quick, paper, smoke)")
+    raise SystemExit(f"unknown preset '{name}' (quick, paper, precision, smoke)")
 
 
 def scaled(summary):
@@ -338,8 +358,9 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5))
-        markers = {"particles": "o", "safety_ratio": "s", "speed_m_per_s": "^", "cundall": "D", "model": "*"}
-        colours = dict(zip(markers, ["C0", "C1", "C2", "C3", "C4"]))
+        markers = {"particles": "o", "safety_ratio": "s", "speed_m_per_s": "^", "cundall": "D", "model": "*",
+                   "bond_reference": "P"}
+        colours = dict(zip(markers, ["C0", "C1", "C2", "C3", "C4", "C5"]))
         errors = [r["error_finest"] for r in rows if r["error_finest"] > 0]
         floor = 0.5 * min(errors) if errors else 1e-4  # where the finest run (error 0) is drawn on the log axis
         for axis, mk in markers.items():

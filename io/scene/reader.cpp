@@ -21,7 +21,7 @@ const std::vector<Section>& sceneSections() {
         setsSection(),     boundarySection(), loadSection(),     dampingSection(), densificationSection(),
         plasticitySection(),
         indenterSection(), stageSection(),    fractureSection(), contactSection(), couplingSection(),
-        timeSection(),     measureSection(),  outputSection(),
+        timeSection(),     precisionSection(), measureSection(), outputSection(),
     };
     return sections;
 }

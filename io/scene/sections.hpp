@@ -67,6 +67,7 @@ Section boundarySection();
 Section loadSection();
 Section dampingSection();
 Section timeSection();
+Section precisionSection();
 Section measureSection();
 Section outputSection();
 // sections_effects.cpp

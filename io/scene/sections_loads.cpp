@@ -219,6 +219,31 @@ Section timeSection() {
                                     &timeKeys);
 }
 
+// --- [precision] -------------------------------------------------------------------------------------------
+
+const std::vector<Key<PrecisionParams>>& precisionKeys() {
+    using S = PrecisionParams;
+    static const std::vector<Key<S>> keys = {
+        choice<S>("bond_reference", &S::bond_reference,
+                  "storage of the bonds' reference data (rest lengths, section normals, twist references): "
+                  "float halves their bytes and rounds them (relative 6e-8); the arithmetic stays double"),
+    };
+    return keys;
+}
+
+Section precisionSection() {
+    Section s = plainSection<PrecisionParams>(
+        "precision", "What is stored in reduced precision (an accuracy knob; bench/accuracy-cost measures it).",
+        member<&Scene::precision>, &precisionKeys);
+    const auto write = s.write; // only when it differs from the default: scenes without it resolve as before
+    s.write = [write](const Scene& scene, const Units& units, std::vector<std::string>& blocks) {
+        if (scene.precision != PrecisionParams{}) {
+            write(scene, units, blocks);
+        }
+    };
+    return s;
+}
+
 // --- [measure] ---------------------------------------------------------------------------------------------
 
 const std::vector<Key<MeasureParams>>& measureKeys() {

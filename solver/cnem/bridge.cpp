@@ -460,7 +460,7 @@ ZoneInelasticity zoneInelasticity(const Bridge& b, const Particles& particles, c
     const bool densification = bonds.densificationEnabled();
     for (std::size_t k = 0; k < bonds.size(); ++k) {
         const double slip_volume =
-            densification ? std::numbers::pi * bonds.section_radius[k] * bonds.section_radius[k] * bonds.rest_length[k] * bonds.slip[k]
+            densification ? std::numbers::pi * bonds.section_radius[k] * bonds.section_radius[k] * bonds.restLength(k) * bonds.slip[k]
                           : 0.0;
         z.total_slip_volume += slip_volume;
         if (b.bond_weight[k] >= 1.0)

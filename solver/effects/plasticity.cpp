@@ -61,8 +61,13 @@ std::optional<Plasticity> buildPlasticity(const Scene& scene, Model& model) {
 namespace {
 RestStateView restStateView(Model& m) {
     Bonds& b = m.bonds;
-    return {b.size(),           b.i.data(),      b.j.data(),     b.broken.empty() ? nullptr : b.broken.data(),
-            b.rest_length.data(), b.axis_i.data(), b.axis_j.data()};
+    RestStateView v{b.size(),           b.i.data(),      b.j.data(),     b.broken.empty() ? nullptr : b.broken.data(),
+                    b.rest_length.data(), b.axis_i.data(), b.axis_j.data(), {}};
+    if (b.floatReference()) {
+        v.rest_length = v.axis_i = v.axis_j = nullptr;
+        v.reference_f32 = {b.rest_length_f32.data(), b.axis_i_f32.data(), b.axis_j_f32.data(), b.twist_ref_f32.data()};
+    }
+    return v;
 }
 /// The owned particles' plastic state (all of them on one process); the work arrays span every local row.
 PlasticStateView stateView(Model& m, Plasticity& fx) {

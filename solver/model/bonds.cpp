@@ -26,13 +26,17 @@ double builtSectionRadius(const MaterialParams& m, double r_a, double r_b) { ret
 
 void Bonds::reserve(std::size_t n) {
     forEachField(*this, [&](const Field& f, auto& member) {
-        if (f.name != std::string_view("slip") && f.name != std::string_view("reference_strain")) {
+        const std::string_view name(f.name);
+        if (name != "slip" && name != "reference_strain" && !name.ends_with("_f32")) {
             member.reserve(n * static_cast<std::size_t>(f.components));
         }
     });
 }
 
 void Bonds::add(const Particles& p, std::int32_t a, std::int32_t b, const MaterialParams& material) {
+    if (floatReference()) {
+        throw std::logic_error("Bonds::add after storeReferencesInFloat: build every bond first");
+    }
     if (a > b) {
         std::swap(a, b);
     }
@@ -88,7 +92,39 @@ BondView Bonds::view() {
     v.force = force.data();
     v.torque_i = torque_i.data();
     v.torque_j = torque_j.data();
+    if (floatReference()) {
+        v.rest_length = v.axis_i = v.axis_j = v.twist_ref = nullptr;
+        v.reference_f32 = {rest_length_f32.data(), axis_i_f32.data(), axis_j_f32.data(), twist_ref_f32.data()};
+    }
     return v;
+}
+
+namespace {
+std::vector<float> rounded(std::vector<double>& from) {
+    std::vector<float> out(from.size());
+    for (std::size_t k = 0; k < from.size(); ++k) {
+        out[k] = static_cast<float>(from[k]); // round to nearest
+    }
+    std::vector<double>().swap(from);
+    return out;
+}
+} // namespace
+
+void Bonds::storeReferencesInFloat() {
+    if (floatReference() || size() == 0) {
+        return;
+    }
+    rest_length_f32 = rounded(rest_length);
+    axis_i_f32 = rounded(axis_i);
+    axis_j_f32 = rounded(axis_j);
+    twist_ref_f32 = rounded(twist_ref);
+}
+
+std::vector<double> Bonds::restLengths() const {
+    if (!floatReference()) {
+        return rest_length;
+    }
+    return {rest_length_f32.begin(), rest_length_f32.end()};
 }
 
 void Bonds::enableDensification() {
@@ -109,6 +145,10 @@ DensificationView Bonds::densificationView() {
     v.axis_i = axis_i.data();
     v.axis_j = axis_j.data();
     v.twist_ref = twist_ref.data();
+    if (floatReference()) {
+        v.axis_i = v.axis_j = v.twist_ref = nullptr;
+        v.reference_f32 = {rest_length_f32.data(), axis_i_f32.data(), axis_j_f32.data(), twist_ref_f32.data()};
+    }
     return v;
 }
 
@@ -174,7 +214,7 @@ double meanAxialStiffness(const Bonds& b) {
     }
     double sum = 0.0;
     for (std::size_t k = 0; k < b.size(); ++k) {
-        sum += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.rest_length[k];
+        sum += b.young[k] * std::numbers::pi * b.section_radius[k] * b.section_radius[k] / b.restLength(k);
     }
     return sum / static_cast<double>(b.size());
 }

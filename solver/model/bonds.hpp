@@ -32,6 +32,12 @@ struct Bonds {
     // allocates nothing for it. Sized by enableDensification().
     std::vector<double> slip;             ///< n, e_p: accumulated permanent shortening
     std::vector<double> reference_strain; ///< n, ε_r: N = E S (ε − ε_r)
+    // [precision] bond_reference = "float" only (storeReferencesInFloat): the reference data rounded to float;
+    // rest_length, axis_i, axis_j and twist_ref above are then empty. Read through the accessors below.
+    std::vector<float> rest_length_f32; ///< n
+    std::vector<float> axis_i_f32;      ///< 3n
+    std::vector<float> axis_j_f32;      ///< 3n
+    std::vector<float> twist_ref_f32;   ///< 4n
 
     std::size_t size() const { return i.size(); }
 
@@ -45,6 +51,17 @@ struct Bonds {
     void add(const Particles& p, std::int32_t a, std::int32_t b, const MaterialParams& material);
 
     BondView view();
+
+    /// Rounds the reference data (rest lengths, section normals, twist references) to float and frees the
+    /// double arrays: [precision] bond_reference = "float". The beam pass then reads half the reference bytes;
+    /// every arithmetic stays double. Call once the bonds are built; no-op if already so.
+    void storeReferencesInFloat();
+    bool floatReference() const { return rest_length.empty() && !rest_length_f32.empty(); }
+    double restLength(std::size_t k) const {
+        return rest_length.empty() ? static_cast<double>(rest_length_f32[k]) : rest_length[k];
+    }
+    /// Every bond's rest length in double, in bond order (a copy).
+    std::vector<double> restLengths() const;
 
     /// Sizes the densification state (zero: undensified) if it is not sized yet.
     void enableDensification();
@@ -103,6 +120,10 @@ constexpr void forEachField(B& b, F&& field) {
     field(Field{"torque_j", 3, "mN*um"}, b.torque_j);
     field(Field{"slip", 1, ""}, b.slip);                         // effect densification (empty without it)
     field(Field{"reference_strain", 1, ""}, b.reference_strain); // effect densification (empty without it)
+    field(Field{"rest_length_f32", 1, "um"}, b.rest_length_f32); // bond_reference = "float" only
+    field(Field{"axis_i_f32", 3, ""}, b.axis_i_f32);
+    field(Field{"axis_j_f32", 3, ""}, b.axis_j_f32);
+    field(Field{"twist_ref_f32", 4, ""}, b.twist_ref_f32);
 }
 
 } // namespace vitrum

@@ -41,6 +41,23 @@ ReduceSpan particleSpan(const Model& model) { return model.part ? model.part->sp
 
 namespace {
 std::size_t firstOwnedBond(const Model& model) { return model.part ? model.part->first_owned_bond : 0; }
+/// The reference pointers of a view moved on by f bonds, in whichever precision they are stored (the other
+/// set stays null).
+template <class V> void shiftReference(V& v, std::size_t f) {
+    const auto shift = [](auto*& p, std::size_t by) {
+        if (p != nullptr) p += by;
+    };
+    if constexpr (requires { v.rest_length; }) {
+        shift(v.rest_length, f);
+    }
+    shift(v.axis_i, 3 * f);
+    shift(v.axis_j, 3 * f);
+    shift(v.twist_ref, 4 * f);
+    shift(v.reference_f32.rest_length, f);
+    shift(v.reference_f32.axis_i, 3 * f);
+    shift(v.reference_f32.axis_j, 3 * f);
+    shift(v.reference_f32.twist_ref, 4 * f);
+}
 } // namespace
 
 BondView ownedBondView(Model& model) {
@@ -49,13 +66,10 @@ BondView ownedBondView(Model& model) {
     v.n -= f;
     v.i += f;
     v.j += f;
-    v.rest_length += f;
+    shiftReference(v, f);
     v.section_radius += f;
     v.young += f;
     v.shear += f;
-    v.axis_i += 3 * f;
-    v.axis_j += 3 * f;
-    v.twist_ref += 4 * f;
     v.broken += f;
     v.force += 3 * f;
     v.torque_i += 3 * f;
@@ -72,9 +86,7 @@ DensificationView ownedDensificationView(Model& model) {
     v.young += f;
     v.shear += f;
     v.section_radius += f;
-    v.axis_i += 3 * f;
-    v.axis_j += 3 * f;
-    v.twist_ref += 4 * f;
+    shiftReference(v, f);
     return v;
 }
 
@@ -201,6 +213,9 @@ Model buildModel(const Scene& scene, double length_factor, const BondedSample& b
                              " um) and cannot be bonded; the packing is corrupt");
         }
         model.bonds.add(model.particles, a, b, scene.material);
+    }
+    if (scene.precision.bond_reference == Precision::Float) {
+        model.bonds.storeReferencesInFloat(); // rounded once here, before any use
     }
     model.incidence = Incidence::build(model.particles.size(), model.bonds);
 

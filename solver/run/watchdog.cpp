@@ -26,7 +26,8 @@ bool finite(const Vec3& v) { return std::isfinite(v.squaredNorm()); }
 double axialStrain(const Model& m, std::size_t b) {
     const Vec3 d = at(m.particles.position, static_cast<std::size_t>(m.bonds.j[b])) -
                    at(m.particles.position, static_cast<std::size_t>(m.bonds.i[b]));
-    return (d.norm() - m.bonds.rest_length[b]) / m.bonds.rest_length[b];
+    const double l0 = m.bonds.restLength(b);
+    return (d.norm() - l0) / l0;
 }
 
 /// The intact bond of particle p with the largest |strain| (a non-finite strain counts as the largest).
@@ -291,7 +292,8 @@ void StateSnapshot::take(const Model& model, const Effects& effects, long step_,
     forEachFieldPair(bonds, model.bonds, [&](const Field& field, auto& to, const auto& from) {
         if (compact && (named(field, {"i", "j"}) ||
                         (!rest_state_changes && named(field, {"rest_length", "section_radius", "young", "shear",
-                                                              "axis_i", "axis_j", "twist_ref"})))) {
+                                                              "axis_i", "axis_j", "twist_ref", "rest_length_f32",
+                                                              "axis_i_f32", "axis_j_f32", "twist_ref_f32"})))) {
             to.clear();
         } else {
             to = from;
