@@ -51,6 +51,7 @@ namespace {
 using vitrum::Vec3;
 using vitrum::Quat;
 using vitrum_bench::BenchModel;
+using vitrum_bench::enableDensification;
 using vitrum_bench::modelFor;
 
 // ---- byte models (per bond or per particle) ------------------------------------------------------------
@@ -231,20 +232,6 @@ void BM_FullStep(benchmark::State& state) {
     state.SetBytesProcessed(asItems(touched * static_cast<double>(state.iterations())));
     reportCommon(state, bm, dram);
     state.SetLabel(step.describe());
-}
-
-/// Densification law with the defaults of a scene (paper Table 3 slider) and the eqs 5–6 coefficients of
-/// examples/calibration/silica.toml, so that the property evolution is on (the branch a run takes).
-void enableDensification(BenchModel& bm) {
-    vitrum::DensificationParams& d = bm.scene.densification;
-    d.eq5 = Vec3(1.2843127090809194, -3.687196402506809, 1.8988946425383515);
-    d.eq6_b0 = Vec3(-0.5723466906322119, 1.7381374611540705, -1.1751869518960338);
-    d.eq6_b1 = Vec3(0.19265411354365053, -0.8921007573410387, 1.485284568135907);
-    if (bm.model.bonds.slip.size() != bm.model.bonds.size()) {
-        bm.model.bonds.enableDensification();
-        vitrum::placeOnPages(bm.model.bonds.slip, vitrum::PagePolicy::Huge); // as placeModelArrays would
-        vitrum::placeOnPages(bm.model.bonds.reference_strain, vitrum::PagePolicy::Huge);
-    }
 }
 
 /// Times computeBeamLoads on the bench model of state.range(0): plain, or with the spring-slider and its

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "kernels/bond_kernels.hpp"
+#include "kernels/pages.hpp"
 #include "kernels/timestep.hpp"
 #include "kernels/views.hpp"
 #include "solver/model/model.hpp"
@@ -83,6 +84,20 @@ inline BenchModel& modelFor(long n) {
         it = cache.emplace(n, makeModel(n)).first;
     }
     return *it->second;
+}
+
+/// Densification law with the defaults of a scene (paper Table 3 slider) and the eqs 5–6 coefficients of
+/// examples/calibration/silica.toml, so that the property evolution is on (the branch a run takes).
+inline void enableDensification(BenchModel& bm) {
+    vitrum::DensificationParams& d = bm.scene.densification;
+    d.eq5 = Vec3(1.2843127090809194, -3.687196402506809, 1.8988946425383515);
+    d.eq6_b0 = Vec3(-0.5723466906322119, 1.7381374611540705, -1.1751869518960338);
+    d.eq6_b1 = Vec3(0.19265411354365053, -0.8921007573410387, 1.485284568135907);
+    if (bm.model.bonds.slip.size() != bm.model.bonds.size()) {
+        bm.model.bonds.enableDensification();
+        vitrum::placeOnPages(bm.model.bonds.slip, vitrum::PagePolicy::Huge); // as placeModelArrays would
+        vitrum::placeOnPages(bm.model.bonds.reference_strain, vitrum::PagePolicy::Huge);
+    }
 }
 
 } // namespace vitrum_bench

@@ -14,7 +14,9 @@ machine drift by up to 50 % between runs; pairing call by call is what resolves 
 Requires the build (`make build`: build/bench/vitrum_ab_paired) and revisions whose kernels/views.hpp equal the
 working tree's (the entry point passes the views across).
 """
-import argparse, os, random, statistics, subprocess, sys, tempfile
+import argparse, os, statistics, subprocess, sys, tempfile
+
+from paired_stats import paired_text
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FLAGS = ["-O3", "-DNDEBUG", "-march=x86-64-v2", "-fno-math-errno", "-fopenmp", "-std=c++20", "-fPIC",
@@ -74,7 +76,6 @@ def main():
         libs.append(build_library(tree, out))
     env = dict(os.environ, OMP_NUM_THREADS=str(a.threads), OMP_WAIT_POLICY="passive")
     pin = ["taskset", "-c", "1"] if a.threads == 1 and os.cpu_count() and os.cpu_count() > 1 else []
-    rng = random.Random(1)
     print(f"# {a.particles} particles, {a.threads} thread(s), {a.rounds} rounds ABBA; ms per beam pass")
     for lanes in a.lanes.split(","):
         for dens in a.densified.split(","):
@@ -86,10 +87,7 @@ def main():
             cols = list(zip(*[[float(x) for x in l.split()] for l in run.stdout.split("\n") if l.strip()]))
             line = f"lanes {lanes} densified {dens}: {a.revs[0]} min {min(cols[0]):.3f} median {statistics.median(cols[0]):.3f}"
             for rev, col in zip(a.revs[1:], cols[1:]):
-                ratios = [y / x for x, y in zip(cols[0], col)]
-                boot = sorted(statistics.median(rng.choices(ratios, k=len(ratios))) for _ in range(400))
-                line += (f" | {rev} min {min(col):.3f} median {statistics.median(col):.3f}, paired ratio "
-                         f"{statistics.median(ratios):.3f} [{boot[10]:.3f}, {boot[389]:.3f}]")
+                line += " | " + paired_text(rev, cols[0], col)
             print(line)
 
 

@@ -180,7 +180,8 @@ def case_matrix_fracture(r):
 def case_variants(r):
     """The effects' other forms on 3 ranks against one process: bond-viscous damping (the ghosts' velocities
     and spins travel with the halo) and fracture averaged over the bonded neighbours (the ghosts' eq (10)
-    stress is forwarded before the average), on the reduced 30 N scene; and a strain boundary on the sphere."""
+    stress is forwarded before the average), on the reduced 30 N scene; a strain boundary on the sphere; the
+    bonds' reference data in float on the plastic scene."""
     name, args = FRACTURE
     args = args + ["--set", 'damping.kind="bond-viscous"', "--set", "damping.coefficient=0.2",
                    "--set", 'fracture.averaging="neighbours"', "--set", "fracture.hydrostatic_strength=0.05"]
@@ -198,6 +199,16 @@ def case_variants(r):
     serial, _ = r.run(name, args, 1, 1, "serial-strain", launcher=False)
     three, _ = r.run(name, args, 3, 1, "p3-strain")
     r.same(f"{name} strain boundary, P=3 vs one process", r.summary(serial), r.summary(three))
+    # The bonds' reference data in float ([precision] bond_reference): the *_f32 fields travel with the rows, the
+    # plastic return rewrites them on each rank; the plastic silica scene.
+    name, args = PLASTIC
+    args = args + ["--set", 'precision.bond_reference="float"']
+    serial, _ = r.run(name, args, 1, 1, "serial-float", launcher=False)
+    three, _ = r.run(name, args, 3, 1, "p3-float")
+    s = r.summary(serial)
+    if s.get("bond_reference_precision") != "float":
+        r.failures.append(f"the float variant ran with bond_reference_precision {s.get('bond_reference_precision')}")
+    r.same(f"{name} float reference data, P=3 vs one process", s, r.summary(three))
 
 
 def partition_cuts(weights, ranks, align=512):
