@@ -267,6 +267,7 @@ const std::map<std::string, std::string> kEverySection = {
      "zone_check = \"weighted\"\nzone_tolerance = 0.002\nyoung_modulus = 71000\npoisson_ratio = 0.2\n"
      "density = 2300\n"},
     {"time", "[time]\nsafety_ratio = 0.2\nduration = 1.5\n"},
+    {"precision", "[precision]\nbond_reference = \"float\"\n"},
     {"measure", "[measure]\nkind = \"uniaxial\"\nloaded_set = \"top\"\naxis = \"y\"\n"},
     {"output",
      "[output]\nevery = 50\nmaps = 0\ncheckpoints = 3\nfields = [\"displacement\", \"radius\", \"damage\"]\n"
