@@ -1,7 +1,21 @@
-"""The statistic of the paired A/B drivers (run.py, precision.py): the median of the per-round ratios with a
-bootstrap 95 % interval (400 resamples, fixed seed)."""
+"""What the paired A/B scripts (run.py, precision.py) share: their driver's path and launch (threads, the
+pinning of one thread), and the statistic, the median of the per-round ratios with a bootstrap 95 % interval
+(400 resamples, fixed seed)."""
+import os
 import random
 import statistics
+import sys
+
+
+def driver_launch(build, name, threads):
+    """(command prefix [taskset, driver], environment) of build/bench/NAME on `threads` OpenMP threads (one
+    thread pinned to core 1 where there are two); exits with a message when the driver is not built."""
+    driver = os.path.join(build, "bench", name)
+    if not os.path.exists(driver):
+        sys.exit(f"bench/ab: {driver} is missing: build the project first (make build)")
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_WAIT_POLICY="passive")
+    pin = ["taskset", "-c", "1"] if threads == 1 and os.cpu_count() and os.cpu_count() > 1 else []
+    return pin + [driver], env
 
 
 def paired_ratio(reference, other, seed=1):

@@ -12,7 +12,7 @@ interval (bench/ab/paired_stats.py).
 """
 import argparse, os, statistics, subprocess, sys
 
-from paired_stats import paired_text
+from paired_stats import driver_launch, paired_text
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -26,17 +26,13 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     a = ap.parse_args()
-    driver = os.path.join(a.build, "bench", "vitrum_ab_precision")
-    if not os.path.exists(driver):
-        sys.exit(f"bench/ab: {driver} is missing: build the project first (make build)")
-    env = dict(os.environ, OMP_NUM_THREADS=str(a.threads), OMP_WAIT_POLICY="passive")
-    pin = ["taskset", "-c", "1"] if a.threads == 1 and os.cpu_count() and os.cpu_count() > 1 else []
+    launch, env = driver_launch(a.build, "vitrum_ab_precision", a.threads)
     print(f"# {a.particles} particles, {a.threads} thread(s), {a.rounds} rounds ABBA of {a.steps} steps; ms per step")
     for dens in a.densified.split(","):
-        run = subprocess.run(pin + [driver, str(a.particles), dens, str(a.rounds), str(a.steps)],
+        run = subprocess.run(launch + [str(a.particles), dens, str(a.rounds), str(a.steps)],
                              capture_output=True, text=True, env=env)
         if run.returncode != 0:
-            sys.exit(f"densified {dens}: {driver} failed ({run.stderr.strip()})")
+            sys.exit(f"densified {dens}: {launch[-1]} failed ({run.stderr.strip()})")
         cols = list(zip(*[[float(x) for x in l.split()] for l in run.stdout.split("\n") if l.strip()]))
         print(f"densified {dens}: double min {min(cols[0]):.3f} median {statistics.median(cols[0]):.3f} | "
               + paired_text("float", cols[0], cols[1]))

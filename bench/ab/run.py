@@ -16,7 +16,7 @@ working tree's (the entry point passes the views across).
 """
 import argparse, os, statistics, subprocess, sys, tempfile
 
-from paired_stats import paired_text
+from paired_stats import driver_launch, paired_text
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 FLAGS = ["-O3", "-DNDEBUG", "-march=x86-64-v2", "-fno-math-errno", "-fopenmp", "-std=c++20", "-fPIC",
@@ -61,9 +61,7 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     a = ap.parse_args()
-    driver = os.path.join(a.build, "bench", "vitrum_ab_paired")
-    if not os.path.exists(driver):
-        sys.exit(f"bench/ab: {driver} is missing: build the project first (make build)")
+    launch, env = driver_launch(a.build, "vitrum_ab_paired", a.threads)
     work = tempfile.mkdtemp(prefix="vitrum-ab-")
     views = open(os.path.join(ROOT, "kernels", "views.hpp")).read()
     libs = []
@@ -74,12 +72,10 @@ def main():
         out = os.path.join(work, f"lib{k}")
         os.makedirs(out)
         libs.append(build_library(tree, out))
-    env = dict(os.environ, OMP_NUM_THREADS=str(a.threads), OMP_WAIT_POLICY="passive")
-    pin = ["taskset", "-c", "1"] if a.threads == 1 and os.cpu_count() and os.cpu_count() > 1 else []
     print(f"# {a.particles} particles, {a.threads} thread(s), {a.rounds} rounds ABBA; ms per beam pass")
     for lanes in a.lanes.split(","):
         for dens in a.densified.split(","):
-            run = subprocess.run(pin + [driver, str(a.particles), lanes, dens, str(a.rounds)] + libs,
+            run = subprocess.run(launch + [str(a.particles), lanes, dens, str(a.rounds)] + libs,
                                  capture_output=True, text=True, env=env)
             if run.returncode != 0:
                 print(f"lanes {lanes} densified {dens}: skipped ({run.stderr.strip()})")
