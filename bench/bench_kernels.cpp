@@ -217,6 +217,14 @@ void timeSteps(benchmark::State& state, vitrum::Step& step, BenchModel& bm, vitr
     }
 }
 
+/// The DRAM bytes of one full step (beam pass with `beam_stream` bytes streamed per bond, gather, integrator).
+double fullStepDramBytes(const BenchModel& bm, double beam_stream) {
+    const double nb = static_cast<double>(bm.model.bonds.size());
+    const double np = static_cast<double>(bm.model.particles.size());
+    return beam_stream * nb + kBeamParticleBytes * np + kGatherDramPerBond * nb + kGatherPerParticle * np +
+           kIntegrateBytes * np;
+}
+
 void BM_FullStep(benchmark::State& state) {
     BenchModel& bm = modelFor(state.range(0));
     vitrum::Effects bm_model_fx = buildEffects(bm.scene, bm.model);
@@ -226,11 +234,9 @@ void BM_FullStep(benchmark::State& state) {
     const double np = static_cast<double>(bm.model.particles.size());
     const double touched = kBeamTouchedBytes * nb + kGatherTouchedPerBond * nb + kGatherPerParticle * np +
                            kIntegrateBytes * np;
-    const double dram = kBeamStreamBytes * nb + kBeamParticleBytes * np + kGatherDramPerBond * nb +
-                        kGatherPerParticle * np + kIntegrateBytes * np;
     state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
     state.SetBytesProcessed(asItems(touched * static_cast<double>(state.iterations())));
-    reportCommon(state, bm, dram);
+    reportCommon(state, bm, fullStepDramBytes(bm, kBeamStreamBytes));
     state.SetLabel(step.describe());
 }
 
@@ -353,11 +359,8 @@ void BM_FullStepDensified(benchmark::State& state) {
     vitrum::Step step = vitrum::composeStep(bm.model, bm_model_fx);
     timeSteps(state, step, bm, bm_model_fx);
     const double nb = static_cast<double>(bm.model.bonds.size());
-    const double np = static_cast<double>(bm.model.particles.size());
-    const double dram = (kBeamStreamBytes + kDensifyBytes) * nb + kBeamParticleBytes * np + kGatherDramPerBond * nb +
-                        kGatherPerParticle * np + kIntegrateBytes * np;
     state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
-    reportCommon(state, bm, dram);
+    reportCommon(state, bm, fullStepDramBytes(bm, kBeamStreamBytes + kDensifyBytes));
     // Bonds that have slipped at least once (the model is shared between benchmarks and keeps its state): the
     // slip branch with property evolution costs far more than the elastic one.
     state.counters["slipped_fraction"] =
@@ -394,10 +397,8 @@ void BM_FullStepPrecision(benchmark::State& state) {
     vitrum::Step step = vitrum::composeStep(bm.model, fx);
     timeSteps(state, step, bm, fx);
     const double nb = static_cast<double>(bm.model.bonds.size());
-    const double np = static_cast<double>(bm.model.particles.size());
     const double beam = kBeamStreamBytes - (single ? kFloatReferenceSaving : 0.0) + (densified ? kDensifyBytes : 0.0);
-    const double dram = beam * nb + kBeamParticleBytes * np + kGatherDramPerBond * nb + kGatherPerParticle * np +
-                        kIntegrateBytes * np;
+    const double dram = fullStepDramBytes(bm, beam);
     state.SetItemsProcessed(asItems(nb * static_cast<double>(state.iterations())));
     reportCommon(state, bm, dram);
     state.SetLabel(step.describe());
