@@ -1,5 +1,6 @@
 // vitrum — DEM of sharp indentation of brittle glass. Exit codes: 0 success, 2 bad input, 1 runtime failure.
 #include <iostream>
+#include <new>
 #include <string>
 #include <thread>
 
@@ -8,12 +9,14 @@
 #include "app/calibrate_command.hpp"
 #include "app/measure_command.hpp"
 #include "app/pack_command.hpp"
+#include "app/ranked_run.hpp"
 #include "app/run_command.hpp"
 #include "io/checkpoint.hpp"
 #include "io/atomic_file.hpp"
 #include "io/scene_reader.hpp"
 #include "solver/errors.hpp"
 #include "solver/halo/comm.hpp"
+#include "solver/model/model.hpp"
 
 namespace {
 
@@ -329,6 +332,15 @@ int main(int argc, char** argv) {
         return endRanks(2, true);
     } catch (const vitrum::RuntimeFailure& e) {
         std::cerr << "vitrum: run failed: " << rankTag() << e.what() << '\n';
+        return endRanks(1, true);
+    } catch (const std::bad_alloc&) {
+        // Out of memory: say how much was in use and what the process may use, and what helps.
+        std::cerr << "vitrum: run failed: " << rankTag() << "out of memory: an allocation failed with "
+                  << static_cast<long>(vitrum::peakRssMiB()) << " MiB resident at the peak, of the "
+                  << vitrum::usableMemoryBytes() / (1024.0 * 1024.0 * 1024.0)
+                  << " GiB this process may use (the machine's memory or an address-space or data limit, ulimit "
+                     "-v / -d); expected fewer particles per process: more MPI ranks, a smaller sample, or "
+                     "[output] last_good_state = false (the watchdog's copy of the state)\n";
         return endRanks(1, true);
     } catch (const std::exception& e) {
         std::cerr << "vitrum: run failed: " << rankTag() << e.what() << '\n';

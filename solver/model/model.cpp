@@ -107,8 +107,11 @@ namespace {
 /// a run refused for memory is refused before any work, one that runs out of it fails hours in.
 constexpr double kPeakBytesPerParticle = 2560.0;
 
+
+} // namespace
+
 /// The memory this process may use: the physical memory, or less under an address-space or data limit.
-double usableBytes() {
+double usableMemoryBytes() {
     double bytes = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
     for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {
         rlimit limit{};
@@ -118,8 +121,6 @@ double usableBytes() {
     }
     return bytes;
 }
-
-} // namespace
 
 void throwPackingRefusal(const Scene& scene, const std::string& what) {
     // "packing: KEY = ..." names the key first.
@@ -137,7 +138,7 @@ void checkSampleMemory(const Scene& scene) {
         return; // the source packing's size decides, checked as it is read
     }
     const double needed = static_cast<double>(scene.sample.particles) * kPeakBytesPerParticle;
-    const double usable = usableBytes();
+    const double usable = usableMemoryBytes();
     if (usable > 0.0 && needed > usable) {
         std::ostringstream msg;
         msg << scene.where("sample.particles") << ": " << scene.sample.particles << " particles need about "

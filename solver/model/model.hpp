@@ -95,6 +95,9 @@ struct BondedSample {
 /// Refuses (InputError naming sample.particles, with the estimate) a sample whose particles cannot fit in the
 /// memory this process may use, before anything is allocated.
 void checkSampleMemory(const Scene& scene);
+/// The memory this process may use, bytes: the physical memory, or less under an address-space or data limit
+/// (ulimit -v, -d).
+double usableMemoryBytes();
 
 /// The scene's sample: a lattice bonded within bond_tolerance, or a fresh dense random packing
 /// (solver/model/packing.hpp; the io layer adds the HDF5 cache of `sample.file`).
