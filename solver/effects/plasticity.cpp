@@ -65,7 +65,7 @@ RestStateView restStateView(Model& m) {
                     b.rest_length.data(), b.axis_i.data(), b.axis_j.data(), {}};
     if (b.floatReference()) {
         v.rest_length = v.axis_i = v.axis_j = nullptr;
-        v.reference_f32 = {b.rest_length_f32.data(), b.axis_i_f32.data(), b.axis_j_f32.data(), b.twist_ref_f32.data()};
+        v.reference_f32 = b.referenceF32();
     }
     return v;
 }

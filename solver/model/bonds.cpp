@@ -94,7 +94,8 @@ BondView Bonds::view() {
     v.torque_j = torque_j.data();
     if (floatReference()) {
         v.rest_length = v.axis_i = v.axis_j = v.twist_ref = nullptr;
-        v.reference_f32 = {rest_length_f32.data(), axis_i_f32.data(), axis_j_f32.data(), twist_ref_f32.data()};
+        const BondReference<float> f = referenceF32();
+        v.reference_f32 = {f.rest_length, f.axis_i, f.axis_j, f.twist_ref};
     }
     return v;
 }
@@ -147,7 +148,7 @@ DensificationView Bonds::densificationView() {
     v.twist_ref = twist_ref.data();
     if (floatReference()) {
         v.axis_i = v.axis_j = v.twist_ref = nullptr;
-        v.reference_f32 = {rest_length_f32.data(), axis_i_f32.data(), axis_j_f32.data(), twist_ref_f32.data()};
+        v.reference_f32 = referenceF32();
     }
     return v;
 }

@@ -60,6 +60,10 @@ struct Bonds {
     double restLength(std::size_t k) const {
         return rest_length.empty() ? static_cast<double>(rest_length_f32[k]) : rest_length[k];
     }
+    /// The float reference arrays as a view's BondReference (views of float storage point here).
+    BondReference<float> referenceF32() {
+        return {rest_length_f32.data(), axis_i_f32.data(), axis_j_f32.data(), twist_ref_f32.data()};
+    }
     /// Every bond's rest length in double, in bond order (a copy).
     std::vector<double> restLengths() const;
 
